@@ -1,0 +1,186 @@
+//! Decoding real files of every supported format, and every kind of bad input.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use std::path::{Path, PathBuf};
+
+use dsp_mel::{load_audio, load_audio_at, AnalysisRate, DspError};
+
+fn fixture(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fixtures/audio")
+        .join(name)
+}
+
+/// Zero crossings per second / 2 ≈ frequency of a pure tone.
+fn tone_hz(samples: &[f32], rate: u32) -> f64 {
+    let crossings = samples
+        .windows(2)
+        .filter(|w| (w[0] < 0.0) != (w[1] < 0.0))
+        .count();
+    crossings as f64 / 2.0 / (samples.len() as f64 / f64::from(rate))
+}
+
+#[test]
+fn every_format_decodes_to_mono_at_its_rate() {
+    for (name, rate) in [
+        ("a440_22050_1ch.flac", 22_050),
+        ("a440_44100_2ch.ogg", 44_100),
+        ("a440_44100_1ch.mp3", 44_100),
+        ("a440_48000_2ch.wav", 48_000),
+        ("a440_16000_1ch.f32.wav", 16_000),
+    ] {
+        let audio = load_audio(fixture(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(audio.sample_rate_hz(), rate, "{name}");
+        assert!(
+            (audio.duration_s() - 0.5).abs() < 0.06,
+            "{name}: {} s",
+            audio.duration_s()
+        );
+        let hz = tone_hz(audio.samples(), rate);
+        assert!((hz - 440.0).abs() < 8.0, "{name}: {hz} Hz");
+        assert!(
+            (audio.peak() - 0.5).abs() < 0.06,
+            "{name}: peak {}",
+            audio.peak()
+        );
+    }
+}
+
+#[test]
+fn resampling_on_load_keeps_pitch_and_duration() {
+    let audio = load_audio_at(fixture("a440_48000_2ch.wav"), AnalysisRate::Hz(22_050)).unwrap();
+    assert_eq!(audio.sample_rate_hz(), 22_050);
+    assert_eq!(audio.samples().len(), 11_025);
+    assert!((tone_hz(audio.samples(), 22_050) - 440.0).abs() < 5.0);
+}
+
+fn write_wav(path: &Path, samples: &[f32], rate: u32) {
+    let spec = hound::WavSpec {
+        channels: 1,
+        sample_rate: rate,
+        bits_per_sample: 32,
+        sample_format: hound::SampleFormat::Float,
+    };
+    let mut w = hound::WavWriter::create(path, spec).unwrap();
+    for s in samples {
+        w.write_sample(*s).unwrap();
+    }
+    w.finalize().unwrap();
+}
+
+#[test]
+fn missing_file() {
+    let err = load_audio("/definitely/not/here.wav").unwrap_err();
+    assert!(matches!(err, DspError::NotFound { .. }), "{err}");
+    assert!(err.to_string().contains("not/here.wav"));
+}
+
+#[test]
+fn directory_instead_of_file() {
+    let dir = tempfile::tempdir().unwrap();
+    assert!(matches!(
+        load_audio(dir.path()).unwrap_err(),
+        DspError::IsDirectory { .. }
+    ));
+}
+
+#[test]
+fn empty_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("empty.wav");
+    std::fs::write(&p, b"").unwrap();
+    assert!(matches!(
+        load_audio(&p).unwrap_err(),
+        DspError::EmptyFile { .. }
+    ));
+}
+
+#[test]
+fn not_audio_at_all() {
+    let dir = tempfile::tempdir().unwrap();
+    for name in ["notes.wav", "notes.mp3", "notes.flac", "notes"] {
+        let p = dir.path().join(name);
+        std::fs::write(&p, "this is a text file, not a recording\n".repeat(50)).unwrap();
+        let err = load_audio(&p).unwrap_err();
+        assert!(
+            matches!(err, DspError::Unsupported { .. } | DspError::Corrupt { .. }),
+            "{name}: {err}"
+        );
+    }
+}
+
+#[test]
+fn header_only_wav_has_no_samples() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("header.wav");
+    write_wav(&p, &[], 22_050);
+    let err = load_audio(&p).unwrap_err();
+    assert!(
+        matches!(err, DspError::NoSamples { .. } | DspError::Corrupt { .. }),
+        "{err}"
+    );
+}
+
+#[test]
+fn truncated_wav_keeps_what_is_there() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("cut.wav");
+    write_wav(&p, &vec![0.25; 10_000], 22_050);
+    let bytes = std::fs::read(&p).unwrap();
+    std::fs::write(&p, &bytes[..44 + 4 * 6_000 + 2]).unwrap();
+    let audio = load_audio(&p).unwrap();
+    assert!(audio.samples().len() >= 5_000 && audio.samples().len() <= 6_000);
+    assert!(audio.samples().iter().all(|&s| s == 0.25));
+}
+
+#[test]
+fn truncated_mp3_keeps_what_is_there_or_says_corrupt() {
+    let dir = tempfile::tempdir().unwrap();
+    let bytes = std::fs::read(fixture("a440_44100_1ch.mp3")).unwrap();
+    let p = dir.path().join("cut.mp3");
+    std::fs::write(&p, &bytes[..bytes.len() / 2]).unwrap();
+    match load_audio(&p) {
+        Ok(a) => assert!(a.duration_s() < 0.45 && a.duration_s() > 0.05),
+        Err(e) => assert!(matches!(e, DspError::Corrupt { .. }), "{e}"),
+    }
+}
+
+#[test]
+fn corrupt_mp3_never_panics() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut bytes = std::fs::read(fixture("a440_44100_1ch.mp3")).unwrap();
+    // Scramble everything after the first frame header.
+    let mut state = 12345u32;
+    for b in bytes.iter_mut().skip(600) {
+        state = state.wrapping_mul(1_103_515_245).wrapping_add(12345);
+        *b = (state >> 16) as u8;
+    }
+    let p = dir.path().join("garbled.mp3");
+    std::fs::write(&p, &bytes).unwrap();
+    if let Ok(a) = load_audio(&p) {
+        assert!(a.samples().iter().all(|s| s.is_finite()));
+    }
+}
+
+#[test]
+fn nan_samples_are_rejected() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("nan.wav");
+    let mut samples = vec![0.1f32; 1000];
+    samples[500] = f32::NAN;
+    write_wav(&p, &samples, 22_050);
+    assert!(matches!(
+        load_audio(&p).unwrap_err(),
+        DspError::NonFinite { index: 500, .. }
+    ));
+}
+
+#[test]
+fn silence_loads_as_zeros() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("silent.wav");
+    write_wav(&p, &[0.0; 2205], 22_050);
+    let audio = load_audio(&p).unwrap();
+    assert_eq!(audio.samples().len(), 2205);
+    assert_eq!(audio.peak(), 0.0);
+}

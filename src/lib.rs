@@ -1,0 +1,2 @@
+//! violin-skeleton: turn a solo violin recording into a violinist skeleton animation.
+pub use dsp_mel;
