@@ -1,0 +1,62 @@
+//! # fingering
+//!
+//! Left-hand fingering for the violinist skeleton (SPEC §6): for each note (a MIDI pitch),
+//! choose the string, the position of the left hand and the finger that play it.
+//!
+//! * [`FingeringTable`] — for each pitch, the places that play it: the original design's
+//!   table ([`FingeringTable::original`], embedded from `data/original_table.tsv`) or the
+//!   [`physical`] model of the fingerboard ([`FingeringTable::physical`], every place for
+//!   G3..=A7, exact to the semitone).
+//! * [`GreedyPlanner`] — the original design's rule: stay in position while possible, else
+//!   move to the nearest position (original table by default).
+//! * [`OptimalPlanner`] — Viterbi over all places with tunable [`CostWeights`] for shifts,
+//!   string crossings, high positions and open strings (physical table by default).
+//!
+//! A [`Fingering`] also tells where the left hand sits along the neck
+//! ([`Fingering::hand_offset_semitones`]) and which pitch it plays ([`Fingering::midi`]).
+//!
+//! ```
+//! use fingering::{FingeringPlanner, GreedyPlanner, OptimalPlanner, ViolinString};
+//! // G major arpeggio G3 B3 D4 G4 B4 D5 G5.
+//! let notes = [55, 59, 62, 67, 71, 74, 79];
+//! let plan = OptimalPlanner::default().plan(&notes)?;
+//! assert!(plan.iter().all(|f| f.position == 1));
+//! assert_eq!(plan[2].string, ViolinString::D);
+//! assert_eq!(plan[2].finger, 0); // open D
+//! assert!(plan.iter().zip(&notes).all(|(f, &m)| f.midi() == m));
+//!
+//! let seed = GreedyPlanner::default().plan(&notes)?;
+//! assert_eq!(seed.len(), notes.len());
+//! assert!(OptimalPlanner::default().plan(&[40]).is_err()); // below the open G string
+//! # Ok::<(), fingering::FingeringError>(())
+//! ```
+
+mod cost;
+mod error;
+mod fingering;
+mod greedy;
+mod optimal;
+pub mod physical;
+mod string;
+mod table;
+
+pub use cost::CostWeights;
+pub use error::FingeringError;
+pub use fingering::{Fingering, Placement};
+pub use greedy::GreedyPlanner;
+pub use optimal::OptimalPlanner;
+pub use string::ViolinString;
+pub use table::{FingeringTable, ORIGINAL_TABLE_TSV};
+
+/// The README's example, compiled and run as a doctest.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;
+
+/// Chooses one [`Fingering`] per note.
+pub trait FingeringPlanner {
+    /// Plans `midi` (one MIDI pitch per note, in order) and returns one place per note;
+    /// empty input gives an empty plan. A pitch that no place of the planner's table plays
+    /// gives [`FingeringError::UnplayablePitch`] with its index.
+    fn plan(&self, midi: &[u8]) -> Result<Vec<Fingering>, FingeringError>;
+}
