@@ -1,0 +1,23 @@
+//! # skeleton
+//!
+//! The shared vocabulary of motion in violin-skeleton: the ten [`Joint`]s of the violinist
+//! (with OpenPose COCO-18 / BODY_25 index maps), [`Motion`] (joint tracks at a frame rate,
+//! optional 3-D and instrument tracks), [`BONES`], plausibility metrics, and motion files.
+//!
+//! ```
+//! use ndarray::Array3;
+//! use skeleton::{Joint, Motion, PoseLayout};
+//! let motion = Motion::new(30.0, Array3::zeros((30, 10, 2)))?;
+//! assert_eq!(motion.jitter(), 0.0);
+//! assert_eq!(Joint::LWrist.openpose_index(PoseLayout::Body25), 7);
+//! # Ok::<(), skeleton::SkeletonError>(())
+//! ```
+
+mod error;
+mod joint;
+pub mod metrics;
+mod motion;
+
+pub use error::{Result, SkeletonError};
+pub use joint::{Joint, PoseLayout, BONES, JOINT_COUNT};
+pub use motion::{InstrumentPoint, Motion};
