@@ -32,6 +32,64 @@ pub enum SkeletonError {
         /// What is wrong, and where.
         reason: String,
     },
+    /// A coordinate (in a motion or a file) is NaN or infinite.
+    #[error(
+        "{path}: {location} is not a finite number; motion files must hold finite coordinates"
+    )]
+    NonFinite {
+        /// The file (or `<memory>` for in-memory writers).
+        path: PathBuf,
+        /// Where: track, frame, joint and coordinate.
+        location: String,
+    },
+    /// A field the format requires is absent.
+    #[error("{path}: missing field `{field}`; {hint}")]
+    MissingField {
+        /// The file.
+        path: PathBuf,
+        /// The field's name.
+        field: String,
+        /// What the field should hold.
+        hint: String,
+    },
+    /// A track in a file does not have the shape its format requires.
+    #[error("{path}: wrong shape: {what}")]
+    FileShape {
+        /// The file.
+        path: PathBuf,
+        /// What was expected and what was found.
+        what: String,
+    },
+    /// A joint (or instrument point) name that the product does not know.
+    #[error("{path}: unknown joint name {name:?}; the joints are nose, neck, r_shoulder, r_elbow, r_wrist, l_shoulder, l_elbow, l_wrist, r_hip, l_hip")]
+    UnknownJoint {
+        /// The file.
+        path: PathBuf,
+        /// The unknown name.
+        name: String,
+    },
+    /// A joint (or instrument point) the file should list is not there (or is listed twice).
+    #[error("{path}: joint {name} is {problem}; list each of the 10 joints exactly once")]
+    MissingJoint {
+        /// The file.
+        path: PathBuf,
+        /// The joint's name.
+        name: String,
+        /// `missing` or `listed twice`.
+        problem: String,
+    },
+    /// The motion has no frames: nothing to write, or a file holds none.
+    #[error("{path}: the motion has no frames")]
+    Empty {
+        /// The file.
+        path: PathBuf,
+    },
+    /// The file format cannot be told from the path.
+    #[error("{path}: cannot tell the motion format from the extension; use .json, .csv, .npy or a directory (OpenPose)")]
+    UnknownFormat {
+        /// The path.
+        path: PathBuf,
+    },
 }
 
 /// `Result` with [`SkeletonError`].

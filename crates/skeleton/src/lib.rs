@@ -14,10 +14,12 @@
 //! ```
 
 mod error;
+pub mod formats;
 mod joint;
 pub mod metrics;
 mod motion;
 
 pub use error::{Result, SkeletonError};
+pub use formats::{MotionFormat, OpenPoseOptions};
 pub use joint::{Joint, PoseLayout, BONES, JOINT_COUNT};
 pub use motion::{InstrumentPoint, Motion};

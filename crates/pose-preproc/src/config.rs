@@ -1,0 +1,218 @@
+//! Configuration of the preprocessing and labelling steps (defaults from SPEC §3).
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{PosePreprocError, Result};
+
+/// All settings of [`crate::preprocess_dir`]; `Default` is SPEC §3.
+///
+/// ```
+/// let cfg = pose_preproc::PreprocConfig::default();
+/// assert_eq!((cfg.fps, cfg.confidence_threshold, cfg.max_gap_frames, cfg.median_window), (30.0, 0.05, 15, 3));
+/// assert_eq!(cfg.labels.threshold_px_per_frame, 1.0);
+/// // Any field may be left out of a JSON config.
+/// let cfg: pose_preproc::PreprocConfig = serde_json::from_str(r#"{"max_gap_frames": 5}"#).unwrap();
+/// assert_eq!((cfg.max_gap_frames, cfg.median_window), (5, 3));
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct PreprocConfig {
+    /// Frame rate of the source video (OpenPose files do not record it).
+    pub fps: f64,
+    /// A keypoint with a lower confidence (or absent) is missing.
+    pub confidence_threshold: f32,
+    /// Gaps of at most this many frames are filled by linear interpolation; longer gaps are
+    /// held at the nearest valid value and reported.
+    pub max_gap_frames: usize,
+    /// Median window (odd) applied to every coordinate after centring; 1 disables it.
+    pub median_window: usize,
+    /// Subtract the per-video mean of all kept joints (SPEC §3 step 4).
+    pub center: bool,
+    /// How the performer is chosen and followed.
+    pub performer: PerformerConfig,
+    /// Bow-change labelling.
+    pub labels: LabelConfig,
+}
+
+impl Default for PreprocConfig {
+    fn default() -> Self {
+        Self {
+            fps: 30.0,
+            confidence_threshold: 0.05,
+            max_gap_frames: 15,
+            median_window: 3,
+            center: true,
+            performer: PerformerConfig::default(),
+            labels: LabelConfig::default(),
+        }
+    }
+}
+
+impl PreprocConfig {
+    /// Checks every value, naming the first one out of range.
+    pub fn validate(&self) -> Result<()> {
+        let bad = |what: String| Err(PosePreprocError::InvalidConfig(what));
+        if !(self.fps.is_finite() && self.fps > 0.0) {
+            return bad(format!("fps must be positive, got {}", self.fps));
+        }
+        if !(0.0..=1.0).contains(&self.confidence_threshold) {
+            return bad(format!(
+                "confidence_threshold must be in [0, 1], got {}",
+                self.confidence_threshold
+            ));
+        }
+        if self.median_window == 0 || self.median_window % 2 == 0 {
+            return bad(format!(
+                "median_window must be odd, got {}",
+                self.median_window
+            ));
+        }
+        self.performer.validate()?;
+        self.labels.validate()
+    }
+}
+
+/// How the performer is picked among the people OpenPose found, and followed.
+///
+/// A person is a *candidate* when at least `min_confident_joints` of our ten joints are
+/// confident. Its *score* is the mean confidence of the ten joints × the diagonal (px) of the
+/// bounding box of its confident joints. Its *distance* to the performer is the mean pixel
+/// distance over the joints confident in both (at least 3). See [`crate::performer`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct PerformerConfig {
+    /// Minimum confident joints (of 10) for a detection to be a candidate at all.
+    pub min_confident_joints: usize,
+    /// The performer is the person with the highest summed score over these first frames.
+    pub start_frames: usize,
+    /// A candidate follows the performer when its distance is at most this fraction of the
+    /// performer's size (bounding-box diagonal).
+    pub max_step_fraction: f32,
+    /// After this many frames without the performer, a candidate anywhere may take over …
+    pub reacquire_after_frames: usize,
+    /// … if it can be followed through this many further frames (a one-frame detection never
+    /// becomes the performer) …
+    pub confirm_frames: usize,
+    /// … and scores at least this fraction of the performer's usual score.
+    pub min_score_ratio: f32,
+}
+
+impl Default for PerformerConfig {
+    fn default() -> Self {
+        Self {
+            min_confident_joints: 4,
+            start_frames: 30,
+            max_step_fraction: 0.5,
+            reacquire_after_frames: 15,
+            confirm_frames: 5,
+            min_score_ratio: 0.5,
+        }
+    }
+}
+
+impl PerformerConfig {
+    fn validate(&self) -> Result<()> {
+        let bad = |what: String| Err(PosePreprocError::InvalidConfig(what));
+        if !(1..=10).contains(&self.min_confident_joints) {
+            return bad(format!(
+                "performer.min_confident_joints must be 1..=10, got {}",
+                self.min_confident_joints
+            ));
+        }
+        if self.start_frames == 0 {
+            return bad("performer.start_frames must be at least 1".into());
+        }
+        if !(self.max_step_fraction.is_finite() && self.max_step_fraction > 0.0) {
+            return bad(format!(
+                "performer.max_step_fraction must be positive, got {}",
+                self.max_step_fraction
+            ));
+        }
+        if !(self.min_score_ratio.is_finite() && self.min_score_ratio >= 0.0) {
+            return bad(format!(
+                "performer.min_score_ratio must be ≥ 0, got {}",
+                self.min_score_ratio
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Where a run of detected frames puts its change point.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum ChangePoint {
+    /// The frame inside the run where the low-passed wrist y turns (its maximum after an
+    /// upward stroke, its minimum after a downward one): the instant the bow reverses.
+    #[default]
+    Extremum,
+    /// The run's centre, as SPEC §3 words it. Biased towards the slower of the two strokes
+    /// when their speeds differ (see the crate README for measurements).
+    RunCentre,
+}
+
+/// The bow-change rule of SPEC §3 on the right-wrist y track.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct LabelConfig {
+    /// Butterworth low-pass order.
+    pub lowpass_order: usize,
+    /// Butterworth cutoff, Hz (the sample rate is the motion's fps).
+    pub lowpass_cutoff_hz: f64,
+    /// Median window (odd) applied to the velocity.
+    pub velocity_median_window: usize,
+    /// Frames averaged before and after a candidate frame.
+    pub context_frames: usize,
+    /// Both mean velocities must exceed this, in pixels of the source video per frame.
+    pub threshold_px_per_frame: f64,
+    /// Where a run of detections places its change.
+    pub change_point: ChangePoint,
+}
+
+impl Default for LabelConfig {
+    fn default() -> Self {
+        Self {
+            lowpass_order: 4,
+            lowpass_cutoff_hz: 5.0,
+            velocity_median_window: 15,
+            context_frames: 10,
+            threshold_px_per_frame: 1.0,
+            change_point: ChangePoint::default(),
+        }
+    }
+}
+
+impl LabelConfig {
+    /// Checks every value, naming the first one out of range.
+    pub fn validate(&self) -> Result<()> {
+        let bad = |what: String| Err(PosePreprocError::InvalidConfig(what));
+        if !(1..=24).contains(&self.lowpass_order) {
+            return bad(format!(
+                "labels.lowpass_order must be 1..=24, got {}",
+                self.lowpass_order
+            ));
+        }
+        if !(self.lowpass_cutoff_hz.is_finite() && self.lowpass_cutoff_hz > 0.0) {
+            return bad(format!(
+                "labels.lowpass_cutoff_hz must be positive, got {}",
+                self.lowpass_cutoff_hz
+            ));
+        }
+        if self.velocity_median_window == 0 || self.velocity_median_window % 2 == 0 {
+            return bad(format!(
+                "labels.velocity_median_window must be odd, got {}",
+                self.velocity_median_window
+            ));
+        }
+        if self.context_frames == 0 {
+            return bad("labels.context_frames must be at least 1".into());
+        }
+        if !(self.threshold_px_per_frame.is_finite() && self.threshold_px_per_frame >= 0.0) {
+            return bad(format!(
+                "labels.threshold_px_per_frame must be ≥ 0, got {}",
+                self.threshold_px_per_frame
+            ));
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,126 @@
+//! Event matching with a tolerance: precision, recall and F1 of detected events (bow
+//! changes, onsets, beats) against reference events.
+
+use serde::{Deserialize, Serialize};
+
+/// The result of matching predicted events to reference events one-to-one.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct EventMatch {
+    /// Predicted events matched to a reference event.
+    pub true_positives: usize,
+    /// Predicted events without a match.
+    pub false_positives: usize,
+    /// Reference events without a match.
+    pub false_negatives: usize,
+    /// `tp / predicted` (1 when nothing was predicted).
+    pub precision: f64,
+    /// `tp / reference` (1 when there is nothing to find).
+    pub recall: f64,
+    /// Harmonic mean of precision and recall (1 when both lists are empty, 0 when no match).
+    pub f1: f64,
+}
+
+/// Matches `predicted` to `truth` (frame indices): a pair matches when the frames differ by
+/// at most `tolerance`; pairs are taken greedily from the closest up, each event used once.
+///
+/// ```
+/// use pose_preproc::metrics::match_events;
+/// let m = match_events(&[10, 31, 70], &[12, 30, 50], 2);
+/// assert_eq!((m.true_positives, m.false_positives, m.false_negatives), (2, 1, 1));
+/// assert!((m.f1 - 2.0 / 3.0).abs() < 1e-12);
+/// ```
+pub fn match_events(predicted: &[usize], truth: &[usize], tolerance: usize) -> EventMatch {
+    let p: Vec<f64> = predicted.iter().map(|&v| v as f64).collect();
+    let t: Vec<f64> = truth.iter().map(|&v| v as f64).collect();
+    match_events_s(&p, &t, tolerance as f64)
+}
+
+/// [`match_events`] for times (e.g. seconds) with a real tolerance (e.g. 0.05 s).
+///
+/// ```
+/// let m = pose_preproc::metrics::match_events_s(&[0.51, 1.2], &[0.5, 1.0], 0.05);
+/// assert_eq!(m.true_positives, 1);
+/// ```
+pub fn match_events_s(predicted: &[f64], truth: &[f64], tolerance: f64) -> EventMatch {
+    let mut pairs: Vec<(f64, usize, usize)> = Vec::new();
+    for (i, p) in predicted.iter().enumerate() {
+        for (j, t) in truth.iter().enumerate() {
+            let d = (p - t).abs();
+            if d <= tolerance {
+                pairs.push((d, i, j));
+            }
+        }
+    }
+    pairs.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
+    let mut used_p = vec![false; predicted.len()];
+    let mut used_t = vec![false; truth.len()];
+    let mut tp = 0;
+    for (_, i, j) in pairs {
+        if !used_p[i] && !used_t[j] {
+            used_p[i] = true;
+            used_t[j] = true;
+            tp += 1;
+        }
+    }
+    let precision = if predicted.is_empty() {
+        1.0
+    } else {
+        tp as f64 / predicted.len() as f64
+    };
+    let recall = if truth.is_empty() {
+        1.0
+    } else {
+        tp as f64 / truth.len() as f64
+    };
+    let f1 = if predicted.is_empty() && truth.is_empty() {
+        1.0
+    } else if tp == 0 {
+        0.0
+    } else {
+        2.0 * precision * recall / (precision + recall)
+    };
+    EventMatch {
+        true_positives: tp,
+        false_positives: predicted.len() - tp,
+        false_negatives: truth.len() - tp,
+        precision,
+        recall,
+        f1,
+    }
+}
+
+/// F1 of `predicted` against `truth` with a frame tolerance (see [`match_events`]).
+///
+/// ```
+/// assert_eq!(pose_preproc::metrics::f1_with_tolerance(&[5, 20], &[6, 20], 2), 1.0);
+/// ```
+pub fn f1_with_tolerance(predicted: &[usize], truth: &[usize], tolerance: usize) -> f64 {
+    match_events(predicted, truth, tolerance).f1
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn one_to_one_and_closest_first() {
+        // Two predictions near one truth: only one matches.
+        let m = match_events(&[10, 11], &[10], 2);
+        assert_eq!(
+            (m.true_positives, m.false_positives, m.false_negatives),
+            (1, 1, 0)
+        );
+        // Greedy by distance: 11 takes 12 (distance 1) and 9 takes 10, rather than 11 → 10.
+        let m = match_events(&[9, 11], &[10, 12], 2);
+        assert_eq!(m.true_positives, 2);
+    }
+
+    #[test]
+    fn empty_lists() {
+        assert_eq!(match_events(&[], &[], 2).f1, 1.0);
+        let m = match_events(&[], &[4], 2);
+        assert_eq!((m.precision, m.recall, m.f1), (1.0, 0.0, 0.0));
+        assert_eq!(match_events(&[4], &[], 2).f1, 0.0);
+        assert_eq!(match_events(&[4], &[7], 2).f1, 0.0);
+    }
+}

@@ -1,0 +1,226 @@
+//! Reading whole files, and atomic writes of files and directories.
+
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+use crate::error::{Result, SkeletonError};
+
+fn io_error(path: &Path, source: std::io::Error) -> SkeletonError {
+    SkeletonError::Io {
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
+fn format_error(path: &Path, reason: impl Into<String>) -> SkeletonError {
+    SkeletonError::Format {
+        path: path.to_path_buf(),
+        reason: reason.into(),
+    }
+}
+
+/// The bytes of a file; a directory, a missing or an empty file is a clear error.
+pub(crate) fn read_file(path: &Path) -> Result<Vec<u8>> {
+    if path.is_dir() {
+        return Err(format_error(
+            path,
+            "is a directory; pass a motion file (or read it as an OpenPose directory)",
+        ));
+    }
+    let bytes = std::fs::read(path).map_err(|e| io_error(path, e))?;
+    if bytes.is_empty() {
+        return Err(format_error(path, "file is empty (0 bytes)"));
+    }
+    Ok(bytes)
+}
+
+/// The directory a new file or directory at `path` goes into; it must exist.
+fn parent_dir(path: &Path) -> Result<PathBuf> {
+    let dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    if !dir.is_dir() {
+        return Err(format_error(
+            path,
+            format!(
+                "cannot write: folder {} does not exist; create it first",
+                dir.display()
+            ),
+        ));
+    }
+    Ok(dir)
+}
+
+/// Writes `path` through `write`, atomically: to a temporary file beside it, then renamed.
+pub(crate) fn write_file(
+    path: &Path,
+    write: impl FnOnce(&mut dyn Write) -> Result<()>,
+) -> Result<()> {
+    if path.is_dir() {
+        return Err(format_error(
+            path,
+            "cannot write: is a directory; give a file name",
+        ));
+    }
+    let dir = parent_dir(path)?;
+    let tmp = tempfile::Builder::new()
+        .prefix(".skeleton-")
+        .suffix(".tmp")
+        .tempfile_in(&dir)
+        .map_err(|e| io_error(path, e))?;
+    {
+        let mut w = BufWriter::new(tmp.as_file());
+        write(&mut w)?;
+        w.flush().map_err(|e| io_error(path, e))?;
+    }
+    set_mode(tmp.path(), 0o644);
+    tmp.persist(path).map_err(|e| io_error(path, e.error))?;
+    Ok(())
+}
+
+/// Temporary files and directories are private (0600 / 0700); an output is an ordinary
+/// file or directory. Best effort: a failure leaves the private mode.
+fn set_mode(path: &Path, mode: u32) {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        let _ = std::fs::set_permissions(path, std::fs::Permissions::from_mode(mode));
+    }
+    #[cfg(not(unix))]
+    let _ = (path, mode);
+}
+
+/// True when `dir` holds only `*_keypoints.json` files (or nothing): safe to replace.
+fn only_keypoint_files(dir: &Path) -> Result<bool> {
+    for entry in std::fs::read_dir(dir).map_err(|e| io_error(dir, e))? {
+        let entry = entry.map_err(|e| io_error(dir, e))?;
+        let name = entry.file_name();
+        let is_file = entry.file_type().map_err(|e| io_error(dir, e))?.is_file();
+        if !(is_file && name.to_string_lossy().ends_with("_keypoints.json")) {
+            return Ok(false);
+        }
+    }
+    Ok(true)
+}
+
+/// Creates directory `dir` with `fill` atomically: `fill` writes into a temporary directory
+/// beside `dir`, which is then renamed to `dir`. An existing `dir` is replaced only when it
+/// holds nothing but `*_keypoints.json` files (so no user file is ever deleted).
+pub(crate) fn write_dir(dir: &Path, fill: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
+    let parent = parent_dir(dir)?;
+    if dir.exists() {
+        if !dir.is_dir() {
+            return Err(format_error(
+                dir,
+                "cannot write an OpenPose directory: a file with this name exists; choose another name",
+            ));
+        }
+        if !only_keypoint_files(dir)? {
+            return Err(format_error(
+                dir,
+                "cannot write an OpenPose directory: it exists and holds other files; choose a new or empty directory",
+            ));
+        }
+    }
+    let tmp = tempfile::Builder::new()
+        .prefix(".skeleton-openpose-")
+        .tempdir_in(&parent)
+        .map_err(|e| io_error(dir, e))?;
+    fill(tmp.path())?;
+    set_mode(tmp.path(), 0o755);
+    if dir.exists() {
+        // Move the old directory aside (a fresh temporary name), move the new one in, then
+        // delete the old one; on failure put the old one back.
+        let aside = tempfile::Builder::new()
+            .prefix(".skeleton-old-")
+            .tempdir_in(&parent)
+            .map_err(|e| io_error(dir, e))?;
+        let aside_path = aside.path().join("old");
+        std::fs::rename(dir, &aside_path).map_err(|e| io_error(dir, e))?;
+        if let Err(e) = std::fs::rename(tmp.path(), dir) {
+            // Best effort: the original error is the one to report.
+            let _ = std::fs::rename(&aside_path, dir);
+            return Err(io_error(dir, e));
+        }
+        let _ = tmp.keep();
+        drop(aside); // removes the old directory
+    } else {
+        std::fs::rename(tmp.path(), dir).map_err(|e| io_error(dir, e))?;
+        let _ = tmp.keep();
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn failed_write_leaves_nothing() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("out.json");
+        let err = write_file(&path, |_| Err(format_error(&path, "boom"))).unwrap_err();
+        assert!(err.to_string().contains("boom"));
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+
+        let sub = dir.path().join("pose");
+        assert!(write_dir(&sub, |_| Err(format_error(&sub, "boom"))).is_err());
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn outputs_are_ordinary_files_and_directories() {
+        use std::os::unix::fs::PermissionsExt;
+        let dir = tempfile::tempdir().unwrap();
+        let file = dir.path().join("m.json");
+        write_file(&file, |w| {
+            w.write_all(b"{}").map_err(|e| io_error(&file, e))
+        })
+        .unwrap();
+        let mode = std::fs::metadata(&file).unwrap().permissions().mode();
+        assert_eq!(mode & 0o777, 0o644);
+        let sub = dir.path().join("pose");
+        write_dir(&sub, |_| Ok(())).unwrap();
+        let mode = std::fs::metadata(&sub).unwrap().permissions().mode();
+        assert_eq!(mode & 0o777, 0o755);
+    }
+
+    #[test]
+    fn directory_is_replaced_only_when_it_holds_keypoint_files() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("pose");
+        let fill = |name: &'static str| {
+            move |d: &Path| {
+                std::fs::write(d.join(name), b"{}").map_err(|e| io_error(d, e))?;
+                Ok(())
+            }
+        };
+        write_dir(&out, fill("a_000000000000_keypoints.json")).unwrap();
+        write_dir(&out, fill("b_000000000000_keypoints.json")).unwrap();
+        let names: Vec<_> = std::fs::read_dir(&out)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().into_string().unwrap())
+            .collect();
+        assert_eq!(names, vec!["b_000000000000_keypoints.json"]);
+        // Only `pose` remains in the parent: no temporary left behind.
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+
+        std::fs::write(out.join("notes.txt"), b"mine").unwrap();
+        let err = write_dir(&out, fill("c_000000000000_keypoints.json")).unwrap_err();
+        assert!(err.to_string().contains("holds other files"), "{err}");
+        assert!(out.join("notes.txt").exists());
+    }
+
+    #[test]
+    fn missing_parent_and_empty_file_are_clear_errors() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("nope").join("m.json");
+        let err = write_file(&path, |_| Ok(())).unwrap_err();
+        assert!(err.to_string().contains("does not exist"), "{err}");
+        let empty = dir.path().join("e.json");
+        std::fs::write(&empty, b"").unwrap();
+        assert!(read_file(&empty).unwrap_err().to_string().contains("empty"));
+    }
+}

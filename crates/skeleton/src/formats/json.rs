@@ -1,0 +1,310 @@
+//! The product's motion JSON (ARCHITECTURE.md, "File schemas").
+
+use std::io::{Read, Write};
+use std::path::Path;
+
+use ndarray::{Array3, ArrayView1, ArrayView2, Axis};
+use serde::ser::{SerializeSeq, Serializer};
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Result, SkeletonError};
+use crate::joint::{Joint, JOINT_COUNT};
+use crate::motion::{InstrumentPoint, Motion};
+
+/// A `(T, points, dims)` track serialised as nested arrays.
+struct Track<'a>(&'a Array3<f32>);
+struct Frame<'a>(ArrayView2<'a, f32>);
+struct Point<'a>(ArrayView1<'a, f32>);
+
+impl Serialize for Track<'_> {
+    fn serialize<S: Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        s.collect_seq(self.0.axis_iter(Axis(0)).map(Frame))
+    }
+}
+impl Serialize for Frame<'_> {
+    fn serialize<S: Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        s.collect_seq(self.0.axis_iter(Axis(0)).map(Point))
+    }
+}
+impl Serialize for Point<'_> {
+    fn serialize<S: Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        let mut seq = s.serialize_seq(Some(self.0.len()))?;
+        for v in self.0.iter() {
+            seq.serialize_element(v)?;
+        }
+        seq.end()
+    }
+}
+
+/// The frame rate as an integer when it is one (`"fps": 30`), else as a float.
+fn serialize_fps<S: Serializer>(fps: &f64, s: S) -> std::result::Result<S::Ok, S::Error> {
+    if fps.fract() == 0.0 && *fps <= 1e9 {
+        s.serialize_u64(*fps as u64)
+    } else {
+        s.serialize_f64(*fps)
+    }
+}
+
+#[derive(Serialize)]
+struct MotionJsonOut<'a> {
+    #[serde(serialize_with = "serialize_fps")]
+    fps: f64,
+    joints: [&'static str; JOINT_COUNT],
+    frames: Track<'a>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    frames_3d: Option<Track<'a>>,
+    units: &'static str,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    image_size: Option<[u32; 2]>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    instrument_points: Option<[&'static str; 4]>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    instrument: Option<Track<'a>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    instrument_3d: Option<Track<'a>>,
+}
+
+/// Writes `motion` as motion JSON to `writer` (all tracks it has).
+///
+/// ```
+/// use ndarray::Array3;
+/// let m = skeleton::Motion::new(30.0, Array3::zeros((2, 10, 2)))?;
+/// let mut bytes = Vec::new();
+/// skeleton::formats::write_json(&m, &mut bytes)?;
+/// assert!(String::from_utf8_lossy(&bytes).starts_with(r#"{"fps":30,"joints":["nose""#));
+/// assert_eq!(skeleton::formats::read_json_from(bytes.as_slice())?, m);
+/// # Ok::<(), skeleton::SkeletonError>(())
+/// ```
+pub fn write_json(motion: &Motion, writer: impl Write) -> Result<()> {
+    let path = super::memory_path();
+    super::check_writable(motion, &path, true)?;
+    write(motion, writer, &path)
+}
+
+pub(crate) fn write(motion: &Motion, mut writer: impl Write, path: &Path) -> Result<()> {
+    let has_instrument = motion.instrument().is_some() || motion.instrument_3d().is_some();
+    let out = MotionJsonOut {
+        fps: motion.fps(),
+        joints: Joint::ALL.map(Joint::name),
+        frames: Track(motion.frames()),
+        frames_3d: motion.frames_3d().map(Track),
+        units: "px",
+        image_size: motion.image_size().map(|(w, h)| [w, h]),
+        instrument_points: has_instrument.then(|| InstrumentPoint::ALL.map(InstrumentPoint::name)),
+        instrument: motion.instrument().map(Track),
+        instrument_3d: motion.instrument_3d().map(Track),
+    };
+    let io = |e: std::io::Error| SkeletonError::Io {
+        path: path.to_path_buf(),
+        source: e,
+    };
+    serde_json::to_writer(&mut writer, &out).map_err(|e| io(e.into()))?;
+    writer.write_all(b"\n").map_err(io)
+}
+
+/// Nested arrays as read: `null` is kept so it can be reported as a non-finite value.
+type RawTrack = Vec<Vec<Vec<Option<f64>>>>;
+
+#[derive(Deserialize)]
+struct MotionJsonIn {
+    fps: Option<f64>,
+    joints: Option<Vec<String>>,
+    frames: Option<RawTrack>,
+    frames_3d: Option<RawTrack>,
+    units: Option<String>,
+    image_size: Option<[u32; 2]>,
+    instrument_points: Option<Vec<String>>,
+    instrument: Option<RawTrack>,
+    instrument_3d: Option<RawTrack>,
+}
+
+/// Reads motion JSON from `reader` (joints in any order, by name; unknown or missing joints
+/// are errors).
+pub fn read_json_from(mut reader: impl Read) -> Result<Motion> {
+    let path = super::memory_path();
+    let mut bytes = Vec::new();
+    reader
+        .read_to_end(&mut bytes)
+        .map_err(|e| SkeletonError::Io {
+            path: path.clone(),
+            source: e,
+        })?;
+    read(&bytes, &path)
+}
+
+fn format_error(path: &Path, reason: String) -> SkeletonError {
+    SkeletonError::Format {
+        path: path.to_path_buf(),
+        reason,
+    }
+}
+
+fn missing(path: &Path, field: &str, hint: &str) -> SkeletonError {
+    SkeletonError::MissingField {
+        path: path.to_path_buf(),
+        field: field.into(),
+        hint: hint.into(),
+    }
+}
+
+/// For each column of the file, the index of that name in `known`; every known name must
+/// appear exactly once.
+fn column_order(path: &Path, names: &[String], known: &[&'static str]) -> Result<Vec<usize>> {
+    let mut order = Vec::with_capacity(names.len());
+    let mut seen = vec![false; known.len()];
+    for name in names {
+        let Some(i) = known.iter().position(|k| k == name) else {
+            return Err(SkeletonError::UnknownJoint {
+                path: path.to_path_buf(),
+                name: name.clone(),
+            });
+        };
+        if std::mem::replace(&mut seen[i], true) {
+            return Err(SkeletonError::MissingJoint {
+                path: path.to_path_buf(),
+                name: name.clone(),
+                problem: "listed twice".into(),
+            });
+        }
+        order.push(i);
+    }
+    if let Some(i) = seen.iter().position(|s| !s) {
+        return Err(SkeletonError::MissingJoint {
+            path: path.to_path_buf(),
+            name: known[i].into(),
+            problem: "missing".into(),
+        });
+    }
+    Ok(order)
+}
+
+/// Builds a `(T, points, dims)` array from a raw track whose point columns follow `order`.
+fn to_track(
+    path: &Path,
+    field: &str,
+    raw: &RawTrack,
+    order: &[usize],
+    names: &[&'static str],
+    dims: usize,
+) -> Result<Array3<f32>> {
+    let mut out = Array3::zeros((raw.len(), order.len(), dims));
+    for (t, frame) in raw.iter().enumerate() {
+        if frame.len() != order.len() {
+            return Err(SkeletonError::FileShape {
+                path: path.to_path_buf(),
+                what: format!(
+                    "{field}: frame {t} has {} points, expected {} (one per name listed)",
+                    frame.len(),
+                    order.len()
+                ),
+            });
+        }
+        for (column, point) in frame.iter().enumerate() {
+            let p = order[column];
+            if point.len() != dims {
+                return Err(SkeletonError::FileShape {
+                    path: path.to_path_buf(),
+                    what: format!(
+                        "{field}: frame {t}, {} has {} values, expected {dims}",
+                        names[p],
+                        point.len()
+                    ),
+                });
+            }
+            for (c, v) in point.iter().enumerate() {
+                let value = v.map(|x| x as f32).filter(|x| x.is_finite());
+                let Some(value) = value else {
+                    return Err(SkeletonError::NonFinite {
+                        path: path.to_path_buf(),
+                        location: format!(
+                            "{field}: frame {t}, {}, coordinate {} ({})",
+                            names[p],
+                            ["x", "y", "z"][c.min(2)],
+                            v.map_or("null".to_string(), |x| x.to_string())
+                        ),
+                    });
+                };
+                out[[t, p, c]] = value;
+            }
+        }
+    }
+    Ok(out)
+}
+
+pub(crate) fn read(bytes: &[u8], path: &Path) -> Result<Motion> {
+    let raw: MotionJsonIn = serde_json::from_slice(bytes)
+        .map_err(|e| format_error(path, format!("not valid motion JSON: {e}")))?;
+    let fps = raw
+        .fps
+        .ok_or_else(|| missing(path, "fps", "frames per second, e.g. 30"))?;
+    if !(fps.is_finite() && fps > 0.0) {
+        return Err(format_error(
+            path,
+            format!("fps must be a positive number, got {fps}"),
+        ));
+    }
+    if let Some(units) = raw.units.as_deref().filter(|u| *u != "px") {
+        return Err(format_error(
+            path,
+            format!("units {units:?} are not supported; the 2-D track must be in pixels (\"px\")"),
+        ));
+    }
+    let joint_names = Joint::ALL.map(Joint::name);
+    let names = raw
+        .joints
+        .ok_or_else(|| missing(path, "joints", "the 10 joint names, in column order"))?;
+    let order = column_order(path, &names, &joint_names)?;
+    let frames = raw
+        .frames
+        .ok_or_else(|| missing(path, "frames", "[[[x, y] × 10] × frames]"))?;
+    if frames.is_empty() {
+        return Err(SkeletonError::Empty {
+            path: path.to_path_buf(),
+        });
+    }
+    let shape_error = |e: SkeletonError| format_error(path, e.to_string());
+    let mut motion = Motion::new(
+        fps,
+        to_track(path, "frames", &frames, &order, &joint_names, 2)?,
+    )?;
+    let frame_count = frames.len();
+    let check_len = |field: &str, track: &RawTrack| {
+        if track.len() == frame_count {
+            Ok(())
+        } else {
+            Err(SkeletonError::FileShape {
+                path: path.to_path_buf(),
+                what: format!(
+                    "{field} has {} frames, frames has {frame_count}",
+                    track.len()
+                ),
+            })
+        }
+    };
+    if let Some(f3) = &raw.frames_3d {
+        check_len("frames_3d", f3)?;
+        let track = to_track(path, "frames_3d", f3, &order, &joint_names, 3)?;
+        motion = motion.with_3d(track).map_err(shape_error)?;
+    }
+    if raw.instrument.is_some() || raw.instrument_3d.is_some() {
+        let point_names = InstrumentPoint::ALL.map(InstrumentPoint::name);
+        let inst_order = match &raw.instrument_points {
+            Some(n) => column_order(path, n, &point_names)?,
+            None => (0..point_names.len()).collect(),
+        };
+        if let Some(i2) = &raw.instrument {
+            check_len("instrument", i2)?;
+            let track = to_track(path, "instrument", i2, &inst_order, &point_names, 2)?;
+            motion = motion.with_instrument(track).map_err(shape_error)?;
+        }
+        if let Some(i3) = &raw.instrument_3d {
+            check_len("instrument_3d", i3)?;
+            let track = to_track(path, "instrument_3d", i3, &inst_order, &point_names, 3)?;
+            motion = motion.with_instrument_3d(track).map_err(shape_error)?;
+        }
+    }
+    if let Some([w, h]) = raw.image_size {
+        motion = motion.with_image_size(w, h);
+    }
+    Ok(motion)
+}

@@ -1,0 +1,217 @@
+//! Motion files: JSON, CSV, NPY and OpenPose directories, each read and written.
+//!
+//! | format | what | read | write |
+//! |---|---|---|---|
+//! | [`MotionFormat::Json`] | `{"fps", "joints", "frames", ["frames_3d"], "units", ["image_size"], ["instrument_points", "instrument", "instrument_3d"]}` | joints in any order, by name | all tracks |
+//! | [`MotionFormat::Csv`] | header `frame,time_s,nose_x,nose_y,…,l_hip_y`, one row per frame | columns by name; fps from `time_s` | 2-D track |
+//! | [`MotionFormat::Npy`] | float32 `(T, 20)`: x, y per joint in [`crate::Joint::ALL`] order | needs an fps ([`Motion::read_npy`]); [`Motion::read`] assumes 30 | 2-D track |
+//! | [`MotionFormat::OpenPose`] | a directory of `{prefix}_{frame:012}_keypoints.json` in OpenPose's schema | a clean single-person directory | 2-D track, BODY_25 or COCO-18 |
+//!
+//! Every file write is atomic: the data goes to a temporary file in the same directory that
+//! is renamed into place at the end (an OpenPose directory is written as a temporary
+//! directory, then renamed), so a failure never leaves a half-written output. Every read
+//! error names the file and the problem.
+//!
+//! Raw OpenPose output (several people, low-confidence or missing joints, gaps) is read by the
+//! `pose-preproc` crate, which picks the performer and fills gaps; [`Motion::read`] with
+//! [`MotionFormat::OpenPose`] only reads a clean directory with one fully-detected person per
+//! frame, such as the ones this module writes.
+//!
+//! ```
+//! use ndarray::Array3;
+//! use skeleton::{Motion, MotionFormat};
+//! let dir = tempfile::tempdir()?;
+//! let motion = Motion::new(30.0, Array3::from_elem((4, 10, 2), 100.0))?;
+//! for name in ["m.json", "m.csv", "m.npy", "m_openpose"] {
+//!     let path = dir.path().join(name);
+//!     let format = MotionFormat::from_path(&path)?;
+//!     motion.write(&path, format)?;
+//!     assert_eq!(Motion::read(&path, format)?, motion);
+//! }
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+mod csv;
+mod files;
+mod json;
+mod npy;
+mod openpose;
+
+use std::path::{Path, PathBuf};
+
+use ndarray::Array3;
+
+use crate::error::{Result, SkeletonError};
+use crate::joint::Joint;
+use crate::motion::Motion;
+
+pub use csv::{read_csv_from, write_csv};
+pub use json::{read_json_from, write_json};
+pub use npy::{read_npy_from, write_npy};
+pub use openpose::{
+    openpose_file_name, openpose_frame_number, write_openpose_frame, OpenPoseFrame,
+    OpenPoseOptions, OpenPosePerson,
+};
+
+/// Frame rate assumed when a format does not store one (NPY, OpenPose, a one-row CSV).
+pub const DEFAULT_FPS: f64 = 30.0;
+
+/// The label used in errors from the in-memory readers and writers.
+pub(crate) const MEMORY: &str = "<memory>";
+
+/// A motion file format.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum MotionFormat {
+    /// The product's motion JSON (all tracks).
+    Json,
+    /// One row per frame: `frame,time_s,nose_x,nose_y,…,l_hip_y`.
+    Csv,
+    /// float32 `(T, 20)`.
+    Npy,
+    /// A directory with one OpenPose `*_keypoints.json` per frame (BODY_25 by default).
+    #[serde(rename = "openpose")]
+    OpenPose,
+}
+
+impl MotionFormat {
+    /// Guesses the format from a path: `.json`, `.csv`, `.npy` (any case); an existing
+    /// directory or a path without extension is an OpenPose directory.
+    ///
+    /// ```
+    /// use skeleton::MotionFormat;
+    /// use std::path::Path;
+    /// assert_eq!(MotionFormat::from_path(Path::new("a/take1.CSV"))?, MotionFormat::Csv);
+    /// assert_eq!(MotionFormat::from_path(Path::new("a/take1_pose"))?, MotionFormat::OpenPose);
+    /// assert!(MotionFormat::from_path(Path::new("take1.txt")).is_err());
+    /// # Ok::<(), skeleton::SkeletonError>(())
+    /// ```
+    pub fn from_path(path: &Path) -> Result<Self> {
+        if path.is_dir() {
+            return Ok(MotionFormat::OpenPose);
+        }
+        let Some(ext) = path.extension() else {
+            return Ok(MotionFormat::OpenPose);
+        };
+        match ext.to_string_lossy().to_ascii_lowercase().as_str() {
+            "json" => Ok(MotionFormat::Json),
+            "csv" => Ok(MotionFormat::Csv),
+            "npy" => Ok(MotionFormat::Npy),
+            _ => Err(SkeletonError::UnknownFormat {
+                path: path.to_path_buf(),
+            }),
+        }
+    }
+}
+
+impl Motion {
+    /// Writes the motion to `path` in `format`, atomically (OpenPose: BODY_25, file prefix
+    /// `motion`; see [`Motion::write_openpose`] for other options).
+    ///
+    /// Fails on an empty motion or a non-finite coordinate, naming the frame and joint.
+    pub fn write(&self, path: impl AsRef<Path>, format: MotionFormat) -> Result<()> {
+        let path = path.as_ref();
+        match format {
+            MotionFormat::Json => {
+                check_writable(self, path, true)?;
+                files::write_file(path, |w| json::write(self, w, path))
+            }
+            MotionFormat::Csv => {
+                check_writable(self, path, false)?;
+                files::write_file(path, |w| csv::write(self, w, path))
+            }
+            MotionFormat::Npy => {
+                check_writable(self, path, false)?;
+                files::write_file(path, |w| npy::write(self, w, path))
+            }
+            MotionFormat::OpenPose => self.write_openpose(path, &OpenPoseOptions::default()),
+        }
+    }
+
+    /// Writes an OpenPose directory with `options` (layout, file-name prefix), atomically: the
+    /// files are written to a temporary directory beside `dir` that is then renamed to `dir`.
+    /// An existing `dir` is replaced only when it holds nothing but `*_keypoints.json` files.
+    pub fn write_openpose(&self, dir: impl AsRef<Path>, options: &OpenPoseOptions) -> Result<()> {
+        let dir = dir.as_ref();
+        check_writable(self, dir, false)?;
+        openpose::write_dir(self, dir, options)
+    }
+
+    /// Reads a motion from `path` in `format`. NPY and OpenPose files carry no frame rate:
+    /// they are read at [`DEFAULT_FPS`] (use [`Motion::read_npy`] / [`Motion::read_openpose`]
+    /// for another rate).
+    pub fn read(path: impl AsRef<Path>, format: MotionFormat) -> Result<Motion> {
+        let path = path.as_ref();
+        match format {
+            MotionFormat::Json => json::read(&files::read_file(path)?, path),
+            MotionFormat::Csv => csv::read(&files::read_file(path)?, path),
+            MotionFormat::Npy => Motion::read_npy(path, DEFAULT_FPS),
+            MotionFormat::OpenPose => Motion::read_openpose(path, DEFAULT_FPS),
+        }
+    }
+
+    /// Reads a float32 (or float64) `(T, 20)` — or `(T, 10, 2)` — NPY file at `fps`.
+    pub fn read_npy(path: impl AsRef<Path>, fps: f64) -> Result<Motion> {
+        let path = path.as_ref();
+        npy::read(&files::read_file(path)?, fps, path)
+    }
+
+    /// Reads a clean OpenPose directory (one person per frame, all ten joints detected, as
+    /// [`Motion::write_openpose`] writes) at `fps`. Raw OpenPose output goes through the
+    /// `pose-preproc` crate instead.
+    pub fn read_openpose(dir: impl AsRef<Path>, fps: f64) -> Result<Motion> {
+        openpose::read_dir(dir.as_ref(), fps)
+    }
+}
+
+/// Fails on an empty motion or a non-finite value in the tracks a format writes.
+fn check_writable(motion: &Motion, path: &Path, all_tracks: bool) -> Result<()> {
+    if motion.is_empty() {
+        return Err(SkeletonError::Empty {
+            path: path.to_path_buf(),
+        });
+    }
+    check_finite(motion.frames(), "frames", path, true)?;
+    if all_tracks {
+        if let Some(t) = motion.frames_3d() {
+            check_finite(t, "frames_3d", path, true)?;
+        }
+        if let Some(t) = motion.instrument() {
+            check_finite(t, "instrument", path, false)?;
+        }
+        if let Some(t) = motion.instrument_3d() {
+            check_finite(t, "instrument_3d", path, false)?;
+        }
+    }
+    Ok(())
+}
+
+/// Fails naming the first non-finite value of a `(T, points, dims)` track.
+fn check_finite(track: &Array3<f32>, name: &str, path: &Path, joints: bool) -> Result<()> {
+    match track.indexed_iter().find(|(_, v)| !v.is_finite()) {
+        None => Ok(()),
+        Some(((t, p, c), v)) => Err(SkeletonError::NonFinite {
+            path: path.to_path_buf(),
+            location: format!(
+                "{name}: frame {t}, {} {}, coordinate {} = {v}",
+                if joints { "joint" } else { "point" },
+                point_name(p, joints),
+                ["x", "y", "z"].get(c).copied().unwrap_or("?")
+            ),
+        }),
+    }
+}
+
+/// The name of point `p` of a joint or instrument track.
+fn point_name(p: usize, joints: bool) -> &'static str {
+    if joints {
+        Joint::ALL.get(p).map_or("?", |j| j.name())
+    } else {
+        crate::InstrumentPoint::ALL.get(p).map_or("?", |i| i.name())
+    }
+}
+
+/// A path for error messages of the in-memory readers and writers.
+pub(crate) fn memory_path() -> PathBuf {
+    PathBuf::from(MEMORY)
+}
