@@ -1,0 +1,451 @@
+//! [`Performance`]: what is played when, and how — the input of motion synthesis.
+
+use std::path::Path;
+
+use fingering::{Fingering, FingeringPlanner};
+use serde::{Deserialize, Serialize};
+
+use crate::error::{PerformanceError, Result, SynthError};
+use crate::note_serde::NoteRecord;
+
+/// One played note. In JSON the fingering's fields sit beside the times, as in
+/// `analysis.json`: `{"onset_s", "offset_s", "midi", "string", "position", "finger"}`
+/// (the three fingering fields all present, or all absent).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "NoteRecord", into = "NoteRecord")]
+pub struct PlayedNote {
+    /// Start, seconds.
+    pub onset_s: f64,
+    /// End, seconds (after the onset).
+    pub offset_s: f64,
+    /// MIDI pitch (60 = C4).
+    pub midi: u8,
+    /// Where the note is played, when known (see [`Performance::with_fingering`]).
+    pub fingering: Option<Fingering>,
+}
+
+impl PlayedNote {
+    /// A note without fingering.
+    pub fn new(onset_s: f64, offset_s: f64, midi: u8) -> PlayedNote {
+        PlayedNote {
+            onset_s,
+            offset_s,
+            midi,
+            fingering: None,
+        }
+    }
+}
+
+/// Musical arousal over time (DEAM convention): `values[i]` at `i / rate_hz` seconds, each
+/// in [-1, 1] (calm … excited).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ArousalCurve {
+    /// Values per second (2 for DEAM and the emotion network).
+    pub rate_hz: f64,
+    /// The values, in [-1, 1].
+    pub values: Vec<f32>,
+}
+
+impl ArousalCurve {
+    /// The rate of the emotion network's output and of DEAM annotations.
+    pub const DEAM_RATE_HZ: f64 = 2.0;
+
+    /// A curve at [`ArousalCurve::DEAM_RATE_HZ`].
+    pub fn deam(values: Vec<f32>) -> ArousalCurve {
+        ArousalCurve {
+            rate_hz: Self::DEAM_RATE_HZ,
+            values,
+        }
+    }
+
+    /// A curve whose finite values are clipped to [-1, 1] (NaN stays NaN and is rejected by
+    /// [`Performance::new`]).
+    ///
+    /// ```
+    /// let c = motion_synth::ArousalCurve::clamped(2.0, vec![-3.0, 0.5, 7.0]);
+    /// assert_eq!(c.values, vec![-1.0, 0.5, 1.0]);
+    /// ```
+    pub fn clamped(rate_hz: f64, values: Vec<f32>) -> ArousalCurve {
+        ArousalCurve {
+            rate_hz,
+            values: values.into_iter().map(|v| v.clamp(-1.0, 1.0)).collect(),
+        }
+    }
+
+    /// Time of value `index`, seconds.
+    pub fn time_s(&self, index: usize) -> f64 {
+        index as f64 / self.rate_hz
+    }
+}
+
+/// The unvalidated fields of a [`Performance`] (also its JSON form).
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct PerformanceParts {
+    /// Length of the performance, seconds.
+    pub duration_s: f64,
+    /// Notes in onset order.
+    pub notes: Vec<PlayedNote>,
+    /// Instants where the bow reverses, seconds, increasing.
+    #[serde(default)]
+    pub bow_changes_s: Vec<f64>,
+    /// Beats, seconds, increasing.
+    #[serde(default)]
+    pub beats_s: Vec<f64>,
+    /// Downbeats (first beat of each bar), seconds, increasing.
+    #[serde(default)]
+    pub downbeats_s: Vec<f64>,
+    /// Arousal curve; `None` (or no values) is neutral.
+    #[serde(default)]
+    pub arousal: Option<ArousalCurve>,
+    /// Per-note level in [0, 1] (one per note), when known.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dynamics: Option<Vec<f32>>,
+}
+
+/// What is played when, and how: the common language between analysis, the synthetic
+/// corpus and motion synthesis (ARCHITECTURE.md). Always valid: built by
+/// [`Performance::new`], [`Performance::builder`] or deserialisation, which all check it.
+///
+/// Rules checked on construction:
+/// * `duration_s` is finite and positive; there is at least one note;
+/// * every time is finite and inside `[0, duration_s]`; notes end after they start and have
+///   MIDI pitches 0..=127;
+/// * note onsets, bow changes, beats and downbeats are strictly increasing;
+/// * **overlapping notes are trimmed**: the violin line is monophonic, so a note that
+///   still sounds when the next one starts ends at that onset;
+/// * arousal: a positive finite rate and values in [-1, 1] (out-of-range values are an
+///   error, not clipped silently: they usually mean another scale such as DEAM's 1..9; use
+///   [`ArousalCurve::clamped`] to clip on purpose);
+/// * dynamics, when given: one level in [0, 1] per note.
+///
+/// The JSON form is [`PerformanceParts`]; fields that `analysis.json` adds (`f0`,
+/// `tempo_bpm`, …) are ignored, so an analysis file reads as a performance.
+///
+/// ```
+/// use motion_synth::{ArousalCurve, Performance};
+/// let perf = Performance::builder(2.0)
+///     .note(0.0, 1.0, 67)
+///     .note(1.0, 2.0, 71)
+///     .bow_changes(vec![1.0])
+///     .beats(vec![0.0, 0.5, 1.0, 1.5])
+///     .downbeats(vec![0.0])
+///     .arousal(ArousalCurve::deam(vec![0.0, 0.2, 0.4, 0.6]))
+///     .build()?;
+/// assert_eq!(perf.notes().len(), 2);
+/// assert!(Performance::builder(0.0).note(0.0, 1.0, 60).build().is_err());
+/// # Ok::<(), motion_synth::PerformanceError>(())
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "PerformanceParts", into = "PerformanceParts")]
+pub struct Performance {
+    parts: PerformanceParts,
+}
+
+fn check_times(
+    field: &'static str,
+    times: &[f64],
+    duration_s: f64,
+) -> std::result::Result<(), PerformanceError> {
+    for (index, &value) in times.iter().enumerate() {
+        if !value.is_finite() {
+            return Err(PerformanceError::NonFinite {
+                field,
+                index,
+                value,
+            });
+        }
+        if !(0.0..=duration_s).contains(&value) {
+            return Err(PerformanceError::OutOfRange {
+                field,
+                index,
+                value,
+                duration_s,
+            });
+        }
+        if index > 0 && value <= times[index - 1] {
+            return Err(PerformanceError::Unsorted {
+                field,
+                index,
+                value,
+            });
+        }
+    }
+    Ok(())
+}
+
+fn check_notes(
+    notes: &mut [PlayedNote],
+    duration_s: f64,
+) -> std::result::Result<(), PerformanceError> {
+    for (index, n) in notes.iter().enumerate() {
+        for (field, value) in [("notes.onset_s", n.onset_s), ("notes.offset_s", n.offset_s)] {
+            if !value.is_finite() {
+                return Err(PerformanceError::NonFinite {
+                    field,
+                    index,
+                    value,
+                });
+            }
+            if !(0.0..=duration_s).contains(&value) {
+                return Err(PerformanceError::OutOfRange {
+                    field,
+                    index,
+                    value,
+                    duration_s,
+                });
+            }
+        }
+        if n.offset_s <= n.onset_s {
+            return Err(PerformanceError::EmptyNote {
+                index,
+                onset_s: n.onset_s,
+                offset_s: n.offset_s,
+            });
+        }
+        if n.midi > 127 {
+            return Err(PerformanceError::InvalidMidi {
+                index,
+                midi: n.midi,
+            });
+        }
+        if index > 0 && n.onset_s <= notes[index - 1].onset_s {
+            return Err(PerformanceError::Unsorted {
+                field: "notes.onset_s",
+                index,
+                value: n.onset_s,
+            });
+        }
+    }
+    // Monophonic line: a new note ends the previous one.
+    for i in 1..notes.len() {
+        let next_onset = notes[i].onset_s;
+        let prev = &mut notes[i - 1];
+        prev.offset_s = prev.offset_s.min(next_onset);
+    }
+    Ok(())
+}
+
+impl Performance {
+    /// Validates `parts` (see the type's rules) and trims overlapping notes.
+    pub fn new(mut parts: PerformanceParts) -> std::result::Result<Performance, PerformanceError> {
+        let d = parts.duration_s;
+        if !(d.is_finite() && d > 0.0) {
+            return Err(PerformanceError::InvalidDuration { duration_s: d });
+        }
+        if parts.notes.is_empty() {
+            return Err(PerformanceError::Empty);
+        }
+        check_notes(&mut parts.notes, d)?;
+        check_times("bow_changes_s", &parts.bow_changes_s, d)?;
+        check_times("beats_s", &parts.beats_s, d)?;
+        check_times("downbeats_s", &parts.downbeats_s, d)?;
+        if let Some(a) = &parts.arousal {
+            if !(a.rate_hz.is_finite() && a.rate_hz > 0.0) {
+                return Err(PerformanceError::InvalidArousalRate { rate_hz: a.rate_hz });
+            }
+            for (index, &value) in a.values.iter().enumerate() {
+                if !value.is_finite() {
+                    let value = f64::from(value);
+                    return Err(PerformanceError::NonFinite {
+                        field: "arousal.values",
+                        index,
+                        value,
+                    });
+                }
+                if !(-1.0..=1.0).contains(&value) {
+                    return Err(PerformanceError::ArousalOutOfRange { index, value });
+                }
+            }
+        }
+        if let Some(levels) = &parts.dynamics {
+            if levels.len() != parts.notes.len() {
+                return Err(PerformanceError::DynamicsLength {
+                    expected: parts.notes.len(),
+                    got: levels.len(),
+                });
+            }
+            if let Some((index, &value)) = levels
+                .iter()
+                .enumerate()
+                .find(|(_, v)| !(0.0..=1.0).contains(*v))
+            {
+                return Err(PerformanceError::DynamicsOutOfRange { index, value });
+            }
+        }
+        Ok(Performance { parts })
+    }
+
+    /// A builder for a performance of `duration_s` seconds.
+    pub fn builder(duration_s: f64) -> PerformanceBuilder {
+        PerformanceBuilder {
+            parts: PerformanceParts {
+                duration_s,
+                ..PerformanceParts::default()
+            },
+        }
+    }
+
+    /// Reads a performance (or an `analysis.json`) from a JSON file.
+    pub fn read_json(path: impl AsRef<Path>) -> Result<Performance> {
+        let path = path.as_ref();
+        let text = std::fs::read_to_string(path).map_err(|source| SynthError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        serde_json::from_str(&text).map_err(|e| SynthError::PerformanceFile {
+            path: path.to_path_buf(),
+            reason: e.to_string(),
+        })
+    }
+
+    /// Length, seconds.
+    pub fn duration_s(&self) -> f64 {
+        self.parts.duration_s
+    }
+
+    /// The notes, in onset order, not overlapping.
+    pub fn notes(&self) -> &[PlayedNote] {
+        &self.parts.notes
+    }
+
+    /// Bow changes, seconds, strictly increasing.
+    pub fn bow_changes_s(&self) -> &[f64] {
+        &self.parts.bow_changes_s
+    }
+
+    /// Beats, seconds, strictly increasing.
+    pub fn beats_s(&self) -> &[f64] {
+        &self.parts.beats_s
+    }
+
+    /// Downbeats, seconds, strictly increasing.
+    pub fn downbeats_s(&self) -> &[f64] {
+        &self.parts.downbeats_s
+    }
+
+    /// The arousal curve, when there is one with at least one value.
+    pub fn arousal(&self) -> Option<&ArousalCurve> {
+        self.parts.arousal.as_ref().filter(|a| !a.values.is_empty())
+    }
+
+    /// Per-note levels in [0, 1], when known.
+    pub fn dynamics(&self) -> Option<&[f32]> {
+        self.parts.dynamics.as_deref()
+    }
+
+    /// The validated fields.
+    pub fn parts(&self) -> &PerformanceParts {
+        &self.parts
+    }
+
+    /// Number of frames at `fps` that cover the duration: `ceil(duration_s · fps)`.
+    pub fn frame_count(&self, fps: f64) -> usize {
+        ((self.parts.duration_s * fps) - 1e-9).ceil().max(1.0) as usize
+    }
+
+    /// `true` when every note has a fingering.
+    pub fn is_fingered(&self) -> bool {
+        self.parts.notes.iter().all(|n| n.fingering.is_some())
+    }
+
+    /// The same performance with every note that has no fingering given one by `planner`
+    /// (notes that already have one keep it). The planner sees the whole melody, so the
+    /// filled notes are planned in context.
+    ///
+    /// ```
+    /// use motion_synth::Performance;
+    /// use fingering::OptimalPlanner;
+    /// let perf = Performance::builder(1.0).note(0.0, 0.5, 55).note(0.5, 1.0, 76).build()?;
+    /// let fingered = perf.with_fingering(&OptimalPlanner::default())?;
+    /// assert!(fingered.is_fingered());
+    /// # Ok::<(), motion_synth::SynthError>(())
+    /// ```
+    pub fn with_fingering<P: FingeringPlanner + ?Sized>(&self, planner: &P) -> Result<Performance> {
+        let midi: Vec<u8> = self.parts.notes.iter().map(|n| n.midi).collect();
+        let plan = planner.plan(&midi)?;
+        let mut out = self.clone();
+        for (note, f) in out.parts.notes.iter_mut().zip(plan) {
+            note.fingering.get_or_insert(f);
+        }
+        Ok(out)
+    }
+}
+
+impl TryFrom<PerformanceParts> for Performance {
+    type Error = PerformanceError;
+    fn try_from(parts: PerformanceParts) -> std::result::Result<Performance, PerformanceError> {
+        Performance::new(parts)
+    }
+}
+
+impl From<Performance> for PerformanceParts {
+    fn from(p: Performance) -> PerformanceParts {
+        p.parts
+    }
+}
+
+/// Builds a [`Performance`] field by field; [`PerformanceBuilder::build`] validates.
+#[derive(Debug, Clone)]
+pub struct PerformanceBuilder {
+    parts: PerformanceParts,
+}
+
+impl PerformanceBuilder {
+    /// Adds a note without fingering.
+    pub fn note(mut self, onset_s: f64, offset_s: f64, midi: u8) -> Self {
+        self.parts
+            .notes
+            .push(PlayedNote::new(onset_s, offset_s, midi));
+        self
+    }
+
+    /// Adds a note with its fingering.
+    pub fn fingered_note(mut self, onset_s: f64, offset_s: f64, midi: u8, f: Fingering) -> Self {
+        self.parts.notes.push(PlayedNote {
+            fingering: Some(f),
+            ..PlayedNote::new(onset_s, offset_s, midi)
+        });
+        self
+    }
+
+    /// Replaces the notes.
+    pub fn notes(mut self, notes: Vec<PlayedNote>) -> Self {
+        self.parts.notes = notes;
+        self
+    }
+
+    /// Sets the bow changes, seconds.
+    pub fn bow_changes(mut self, times_s: Vec<f64>) -> Self {
+        self.parts.bow_changes_s = times_s;
+        self
+    }
+
+    /// Sets the beats, seconds.
+    pub fn beats(mut self, times_s: Vec<f64>) -> Self {
+        self.parts.beats_s = times_s;
+        self
+    }
+
+    /// Sets the downbeats, seconds.
+    pub fn downbeats(mut self, times_s: Vec<f64>) -> Self {
+        self.parts.downbeats_s = times_s;
+        self
+    }
+
+    /// Sets the arousal curve.
+    pub fn arousal(mut self, curve: ArousalCurve) -> Self {
+        self.parts.arousal = Some(curve);
+        self
+    }
+
+    /// Sets the per-note levels.
+    pub fn dynamics(mut self, levels: Vec<f32>) -> Self {
+        self.parts.dynamics = Some(levels);
+        self
+    }
+
+    /// Validates and builds.
+    pub fn build(self) -> std::result::Result<Performance, PerformanceError> {
+        Performance::new(self.parts)
+    }
+}

@@ -1,0 +1,193 @@
+//! A self-contained HTML player: one file with a canvas, the motion as JSON and the audio
+//! as a base64 data URI.
+//!
+//! The page draws the frame at `audio.currentTime · fps` on every animation frame (its own
+//! clock when there is no audio), has play/pause (button, click on the picture, space bar)
+//! and a scrub bar, opens at `?t=SECONDS` when the URL says so, and offers
+//! `window.seek(seconds)` (returns the frame shown) and `window.currentFrame()` for
+//! scripted checks; the canvas's `data-frame` attribute holds the frame drawn last.
+
+use std::fmt::Write as _;
+use std::io::Write;
+use std::path::Path;
+
+use base64::engine::general_purpose::STANDARD;
+use base64::write::EncoderWriter;
+use skeleton::{Joint, Motion, BONES};
+
+use crate::config::{Layout, RenderConfig};
+use crate::error::{RenderError, Result};
+use crate::files::write_file_atomically;
+
+const TEMPLATE: &str = include_str!("player.html");
+const AUDIO_SLOT: &str = "__AUDIO_ELEMENT__";
+const MOTION_SLOT: &str = "__MOTION_JSON__";
+
+/// Canvas size of the player for a motion without an image size.
+const DEFAULT_CANVAS: (u32, u32) = (960, 540);
+
+fn push_point(out: &mut String, x: f32, y: f32, layout: &Layout) {
+    if x.is_finite() && y.is_finite() {
+        let (px, py) = layout.map(x, y);
+        let _ = write!(out, "{:.1},{:.1}", px, py);
+    } else {
+        out.push_str("null,null");
+    }
+}
+
+fn push_track(out: &mut String, track: &ndarray::Array3<f32>, layout: &Layout) {
+    out.push('[');
+    for (f, frame) in track.outer_iter().enumerate() {
+        if f > 0 {
+            out.push(',');
+        }
+        out.push('[');
+        for (i, p) in frame.rows().into_iter().enumerate() {
+            if i > 0 {
+                out.push(',');
+            }
+            push_point(out, p[0], p[1], layout);
+        }
+        out.push(']');
+    }
+    out.push(']');
+}
+
+/// The motion as the player's JSON: canvas size, fps, joint names, bones (index pairs) and
+/// per-frame flat `[x0, y0, x1, y1, …]` arrays in canvas pixels (`null` for a missing point).
+pub fn player_json(motion: &Motion) -> Result<String> {
+    if motion.is_empty() {
+        return Err(RenderError::EmptyMotion);
+    }
+    let (w, h) = motion
+        .image_size()
+        .filter(|&(a, b)| a > 0 && b > 0)
+        .unwrap_or(DEFAULT_CANVAS);
+    let cfg = RenderConfig {
+        width: w,
+        height: h,
+        ..RenderConfig::default()
+    };
+    let layout = Layout::fit(motion, &cfg)?;
+    let names: Vec<&str> = Joint::ALL.iter().map(|j| j.name()).collect();
+    let bones: Vec<[usize; 2]> = BONES.iter().map(|(a, b)| [a.index(), b.index()]).collect();
+    let mut out = String::with_capacity(motion.len() * 200 + 512);
+    let _ = write!(
+        out,
+        "{{\"fps\":{},\"width\":{w},\"height\":{h},\"joints\":{},\"bones\":{},\"frames\":",
+        motion.fps(),
+        serde_json::to_string(&names).unwrap_or_default(),
+        serde_json::to_string(&bones).unwrap_or_default(),
+    );
+    push_track(&mut out, motion.frames(), &layout);
+    out.push_str(",\"instrument\":");
+    match motion.instrument() {
+        Some(t) => push_track(&mut out, t, &layout),
+        None => out.push_str("null"),
+    }
+    out.push('}');
+    // Safe inside <script>: no "</script>" or "<!--" can appear.
+    Ok(out.replace('<', "\\u003c"))
+}
+
+fn check_mime(mime: &str) -> Result<()> {
+    let ok_part = |s: &str| {
+        !s.is_empty()
+            && s.chars()
+                .all(|c| c.is_ascii_alphanumeric() || "+-.".contains(c))
+    };
+    match mime.split_once('/') {
+        Some((a, b)) if ok_part(a) && ok_part(b) => Ok(()),
+        _ => Err(RenderError::InvalidMime(mime.to_string())),
+    }
+}
+
+/// The MIME type of an audio file from its extension (`wav`, `mp3`, `ogg`, `flac`, `m4a`).
+///
+/// ```
+/// assert_eq!(skeleton_render::audio_mime(std::path::Path::new("a/take.WAV")), Some("audio/wav"));
+/// assert_eq!(skeleton_render::audio_mime(std::path::Path::new("x.txt")), None);
+/// ```
+pub fn audio_mime(path: &Path) -> Option<&'static str> {
+    let ext = path.extension()?.to_string_lossy().to_ascii_lowercase();
+    Some(match ext.as_str() {
+        "wav" | "wave" => "audio/wav",
+        "mp3" => "audio/mpeg",
+        "ogg" | "oga" => "audio/ogg",
+        "flac" => "audio/flac",
+        "m4a" | "mp4" => "audio/mp4",
+        _ => return None,
+    })
+}
+
+/// Writes the player page for `motion`, with `audio` (the file's bytes and its MIME type,
+/// e.g. `audio/wav`) embedded when given.
+///
+/// ```
+/// use ndarray::Array3;
+/// let motion = skeleton::Motion::new(30.0, Array3::from_elem((2, 10, 2), 5.0))?;
+/// let mut page = Vec::new();
+/// skeleton_render::write_html_player(&motion, Some((b"RIFF", "audio/wav")), &mut page)?;
+/// let page = String::from_utf8(page).unwrap();
+/// assert!(page.contains("data:audio/wav;base64,UklGRg=="));
+/// assert!(page.contains("\"fps\":30"));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn write_html_player(
+    motion: &Motion,
+    audio: Option<(&[u8], &str)>,
+    mut out: impl Write,
+) -> Result<()> {
+    let json = player_json(motion)?;
+    if let Some((_, mime)) = audio {
+        check_mime(mime)?;
+    }
+    let (head, rest) = TEMPLATE.split_once(AUDIO_SLOT).unwrap_or((TEMPLATE, ""));
+    let (middle, tail) = rest.split_once(MOTION_SLOT).unwrap_or((rest, ""));
+    out.write_all(head.as_bytes())?;
+    if let Some((bytes, mime)) = audio {
+        write!(
+            out,
+            "<audio id=\"audio\" preload=\"auto\" src=\"data:{mime};base64,"
+        )?;
+        {
+            let mut enc = EncoderWriter::new(&mut out, &STANDARD);
+            enc.write_all(bytes)?;
+            enc.finish()?;
+        }
+        out.write_all(b"\"></audio>")?;
+    }
+    out.write_all(middle.as_bytes())?;
+    out.write_all(json.as_bytes())?;
+    out.write_all(tail.as_bytes())?;
+    out.flush()?;
+    Ok(())
+}
+
+/// [`write_html_player`] to a file, atomically.
+pub fn write_html_player_file(
+    motion: &Motion,
+    audio: Option<(&[u8], &str)>,
+    path: impl AsRef<Path>,
+) -> Result<()> {
+    write_file_atomically(path.as_ref(), |w| write_html_player(motion, audio, w))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn template_has_both_slots_once() {
+        assert_eq!(TEMPLATE.matches(AUDIO_SLOT).count(), 1);
+        assert_eq!(TEMPLATE.matches(MOTION_SLOT).count(), 1);
+    }
+
+    #[test]
+    fn mime_is_checked() {
+        assert!(check_mime("audio/wav").is_ok());
+        assert!(check_mime("audio/x-flac").is_ok());
+        assert!(check_mime("audio\"/wav").is_err());
+        assert!(check_mime("wav").is_err());
+    }
+}
