@@ -1,0 +1,135 @@
+//! The corpus on disk. Per item, in `DIR/items/NNNNN/`:
+//!
+//! | file | content |
+//! |---|---|
+//! | `audio.wav` | mono 16-bit PCM at the item's sample rate |
+//! | `performance.json` | the ground-truth `motion_synth::Performance` |
+//! | `notes.tsv` | `onset_s`, `offset_s`, `midi` separated by tabs, with a header |
+//! | `bowchanges.txt`, `beats.txt`, `downbeats.txt` | one time in seconds per line |
+//! | `arousal.csv` | `time_s,arousal` at 2 Hz, in [-1, 1] |
+//! | `motion.json` | ground-truth motion (skeleton's motion JSON) |
+//!
+//! and `DIR/manifest.json` lists the items ([`crate::manifest::Manifest`]). An item folder is
+//! written under a temporary name and renamed when complete.
+
+use std::fmt::Write as _;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use skeleton::formats::MotionFormat;
+
+use crate::error::CorpusError;
+use crate::item::CorpusItem;
+
+/// Folder of item `index` below the corpus root.
+pub fn item_dir(root: &Path, index: usize) -> PathBuf {
+    root.join("items").join(format!("{index:05}"))
+}
+
+fn io_err(path: &Path, e: impl std::fmt::Display) -> CorpusError {
+    CorpusError::Io {
+        path: path.to_path_buf(),
+        reason: e.to_string(),
+    }
+}
+
+fn times(values: &[f64]) -> String {
+    let mut s = String::new();
+    for v in values {
+        let _ = writeln!(s, "{v:.6}");
+    }
+    s
+}
+
+/// Writes every file of `item` into `root/items/NNNNN/` (replacing an existing folder).
+pub fn write_item(root: &Path, index: usize, item: &CorpusItem) -> Result<PathBuf, CorpusError> {
+    let items = root.join("items");
+    std::fs::create_dir_all(&items).map_err(|e| io_err(&items, e))?;
+    let tmp = tempfile::Builder::new()
+        .prefix(&format!(".{index:05}-"))
+        .tempdir_in(&items)
+        .map_err(|e| io_err(&items, e))?;
+    let dir = tmp.path();
+    write_wav(
+        &dir.join("audio.wav"),
+        &item.audio,
+        item.augmentation.sample_rate_hz,
+    )?;
+    let perf = serde_json::to_string(&item.performance).map_err(|e| io_err(dir, e))?;
+    write_text(&dir.join("performance.json"), &perf)?;
+    let mut notes = String::from("onset_s\toffset_s\tmidi\n");
+    for n in &item.timeline.notes {
+        let _ = writeln!(notes, "{:.6}\t{:.6}\t{}", n.onset_s, n.offset_s, n.midi);
+    }
+    write_text(&dir.join("notes.tsv"), &notes)?;
+    write_text(
+        &dir.join("bowchanges.txt"),
+        &times(&item.timeline.bow_changes_s()),
+    )?;
+    write_text(&dir.join("beats.txt"), &times(&item.timeline.beats_s))?;
+    write_text(
+        &dir.join("downbeats.txt"),
+        &times(&item.timeline.downbeats_s),
+    )?;
+    let mut arousal = String::from("time_s,arousal\n");
+    for (k, a) in item.timeline.arousal_2hz.iter().enumerate() {
+        let _ = writeln!(arousal, "{:.1},{a:.6}", k as f64 * 0.5);
+    }
+    write_text(&dir.join("arousal.csv"), &arousal)?;
+    item.motion
+        .write(dir.join("motion.json"), MotionFormat::Json)
+        .map_err(|e| io_err(&dir.join("motion.json"), e))?;
+    set_mode(&dir.join("motion.json"), 0o644);
+    // tempfile creates private (0700/0600) entries; corpus files are ordinary shared files.
+    set_mode(dir, 0o755);
+    let final_dir = item_dir(root, index);
+    if final_dir.exists() {
+        std::fs::remove_dir_all(&final_dir).map_err(|e| io_err(&final_dir, e))?;
+    }
+    let kept = tmp.keep();
+    std::fs::rename(&kept, &final_dir).map_err(|e| io_err(&final_dir, e))?;
+    Ok(final_dir)
+}
+
+fn write_text(path: &Path, text: &str) -> Result<(), CorpusError> {
+    std::fs::write(path, text).map_err(|e| io_err(path, e))
+}
+
+fn write_wav(path: &Path, audio: &[f32], rate: u32) -> Result<(), CorpusError> {
+    let spec = hound::WavSpec {
+        channels: 1,
+        sample_rate: rate,
+        bits_per_sample: 16,
+        sample_format: hound::SampleFormat::Int,
+    };
+    let file = std::fs::File::create(path).map_err(|e| io_err(path, e))?;
+    let mut w =
+        hound::WavWriter::new(std::io::BufWriter::new(file), spec).map_err(|e| io_err(path, e))?;
+    for s in audio {
+        let v = (s.clamp(-1.0, 1.0) * 32767.0).round() as i16;
+        w.write_sample(v).map_err(|e| io_err(path, e))?;
+    }
+    w.finalize().map_err(|e| io_err(path, e))?;
+    Ok(())
+}
+
+/// Writes `text` to `path` through a temporary file in the same folder.
+pub fn write_atomic(path: &Path, text: &str) -> Result<(), CorpusError> {
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let mut tmp = tempfile::NamedTempFile::new_in(dir).map_err(|e| io_err(path, e))?;
+    tmp.write_all(text.as_bytes())
+        .map_err(|e| io_err(path, e))?;
+    set_mode(tmp.path(), 0o644);
+    tmp.persist(path).map_err(|e| io_err(path, e.error))?;
+    Ok(())
+}
+
+/// Gives a file or folder ordinary permissions (tempfile makes them private).
+#[cfg(unix)]
+fn set_mode(path: &Path, mode: u32) {
+    use std::os::unix::fs::PermissionsExt;
+    let _ = std::fs::set_permissions(path, std::fs::Permissions::from_mode(mode));
+}
+
+#[cfg(not(unix))]
+fn set_mode(_path: &Path, _mode: u32) {}

@@ -1,0 +1,39 @@
+//! # corpus
+//!
+//! The synthetic violin corpus that trains and evaluates every model of violin-skeleton,
+//! because URMP and DEAM cannot be downloaded here and their labels are noisy:
+//!
+//! 1. seeded procedural études ([`etude`]): keys and modes, scales, arpeggios, walks,
+//!    sequences, repeated notes, rests; rhythms from whole notes to sixteenths, dotted and
+//!    triplets; 2/4, 3/4, 4/4, 6/8; 50–170 bpm; slurs of 1–8 notes; pp–ff with hairpins;
+//! 2. played into exact labels ([`timing`]): gentle rubato, bow changes (every note that
+//!    does not continue a slur), beats, downbeats and an arousal proxy;
+//! 3. rendered ([`render`]) by the built-in bowed-string synthesizer or a SoundFont, with
+//!    seeded augmentation ([`augment`]);
+//! 4. written to disk ([`layout`], [`manifest`]) with ground-truth motion from
+//!    `motion-synth`, and summarised ([`stats`]).
+//!
+//! ```
+//! use corpus::item::{make_item, RendererKind};
+//! use corpus::render::BowedStringSynth;
+//! let item = make_item(5, &Default::default(), &BowedStringSynth::default(), RendererKind::Builtin, false)?;
+//! assert_eq!(item.motion.len(), item.performance.frame_count(30.0));
+//! # Ok::<(), corpus::CorpusError>(())
+//! ```
+
+pub mod augment;
+pub mod build;
+mod error;
+pub mod etude;
+pub mod item;
+pub mod layout;
+pub mod manifest;
+pub mod melodies;
+pub mod midi;
+pub mod render;
+pub mod rng;
+pub mod score;
+pub mod stats;
+pub mod timing;
+
+pub use error::CorpusError;

@@ -1,0 +1,94 @@
+//! `manifest.json`: what a corpus holds, how it was made, and its statistics.
+
+use serde::{Deserialize, Serialize};
+
+use crate::augment::Augmentation;
+use crate::item::RendererKind;
+use crate::stats::CorpusStats;
+
+/// Format version of `manifest.json`.
+pub const MANIFEST_VERSION: u32 = 1;
+
+/// Train / validation / test.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Split {
+    /// Training items (80 %).
+    Train,
+    /// Validation items (10 %).
+    Val,
+    /// Test items (10 %).
+    Test,
+}
+
+impl Split {
+    /// Splits for `count` items: indices ending in 3 are test, in 7 validation, the rest
+    /// training (80/10/10); a corpus of 3 or more items always has at least one test item
+    /// (the last) and one validation item (the one before it).
+    ///
+    /// ```
+    /// use corpus::manifest::Split;
+    /// let s = Split::assign(3);
+    /// assert_eq!(s, vec![Split::Train, Split::Val, Split::Test]);
+    /// ```
+    pub fn assign(count: usize) -> Vec<Split> {
+        let mut splits: Vec<Split> = (0..count)
+            .map(|i| match i % 10 {
+                3 => Split::Test,
+                7 => Split::Val,
+                _ => Split::Train,
+            })
+            .collect();
+        if count >= 3 {
+            if !splits.contains(&Split::Test) {
+                splits[count - 1] = Split::Test;
+            }
+            if !splits.contains(&Split::Val) {
+                let i = (0..count)
+                    .rev()
+                    .find(|&i| splits[i] == Split::Train)
+                    .unwrap_or(0);
+                splits[i] = Split::Val;
+            }
+        }
+        splits
+    }
+}
+
+/// One item's entry.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ManifestItem {
+    /// Item id (its index).
+    pub id: usize,
+    /// Folder relative to the corpus root.
+    pub dir: String,
+    /// Split.
+    pub split: Split,
+    /// Renderer used.
+    pub renderer: RendererKind,
+    /// Length in seconds.
+    pub duration_s: f64,
+    /// Meter, e.g. "3/4".
+    pub meter: String,
+    /// Nominal tempo in bpm.
+    pub tempo_bpm: f64,
+    /// Number of notes.
+    pub notes: usize,
+    /// Augmentation applied.
+    pub augmentation: Augmentation,
+}
+
+/// The whole manifest.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Manifest {
+    /// [`MANIFEST_VERSION`].
+    pub version: u32,
+    /// Corpus seed.
+    pub seed: u64,
+    /// Renderer choice: "builtin", "soundfont" or "mix".
+    pub renderer: String,
+    /// Items.
+    pub items: Vec<ManifestItem>,
+    /// Statistics over all items.
+    pub stats: CorpusStats,
+}
