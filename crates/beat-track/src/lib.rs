@@ -1,0 +1,45 @@
+//! # beat-track
+//!
+//! Onsets, tempo, beats, metre and downbeats of a solo recording (SPEC §7), with librosa's
+//! semantics where librosa has the function:
+//!
+//! * [`OnsetStrength`] — `librosa.onset.onset_strength` (log-mel spectral flux), mean and
+//!   median over bands in one pass; [`onset_detect`] / [`peak_pick`] — `onset_detect`.
+//! * [`estimate_tempo`] — `librosa.feature.tempo` (mean autocorrelation tempogram with a
+//!   log-normal prior around 120 bpm).
+//! * [`track_beats`] — `librosa.beat.beat_track`'s dynamic programme (Ellis 2007,
+//!   tightness 100), which follows tempo drift (rubato) beat by beat.
+//! * [`estimate_meter`] — beats per bar (2, 3, 4 or 6/8) and bar phase from accents, onset-
+//!   free space after strong beats and, when given, notes from `pitch-track` (see [`meter`]).
+//! * [`BeatTracker`] — all of it in one call → [`BeatAnalysis`].
+//! * [`eval`] — beat/downbeat F-measure as mir_eval; [`synth`] — the labelled synthetic
+//!   violin of `pitch-track`, re-exported.
+//!
+//! ```
+//! use beat_track::{BeatConfig, BeatTracker};
+//! use beat_track::synth::{render, SynthConfig};
+//! let piece = render(&SynthConfig { bars: 6, tempo_bpm: 110.0, ..SynthConfig::default() })?;
+//! let analysis = BeatTracker::new(BeatConfig::default())?.track(&piece.samples, None)?;
+//! let f = beat_track::eval::beat_prf(&piece.beats_s, &analysis.beats_s, 0.07).f_measure;
+//! assert!(f > 0.8, "{f}");
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+mod dp;
+mod error;
+pub mod eval;
+pub mod meter;
+mod onset;
+mod peaks;
+mod spectrum;
+mod tempo;
+mod tracker;
+
+pub use dp::track_beats;
+pub use error::{BeatError, Result};
+pub use meter::{estimate_meter, Meter, MeterConfig, MeterEstimate};
+pub use onset::{Aggregate, OnsetConfig, OnsetEnvelope, OnsetStrength};
+pub use peaks::{onset_detect, peak_pick, PeakPick};
+pub use pitch_track::synth;
+pub use tempo::{estimate_tempo, mean_tempogram, TempoConfig};
+pub use tracker::{BeatAnalysis, BeatConfig, BeatTracker};

@@ -1,0 +1,347 @@
+//! Metre and downbeats from bar-level evidence.
+//!
+//! Every tracked beat gets a *strength*: a weighted sum of z-scored features
+//! * **accent** — the log onset strength at the beat (±50 ms) and the **level** (mean mel
+//!   dB) over the first half of the beat: downbeats are played louder;
+//! * **space** — the absence of onsets inside the following beat (a long note starts on a
+//!   strong beat), measured on the onset curve;
+//! * with notes from `pitch-track`: **duration** — log₂ of the length, in beats, of the note
+//!   starting on the beat (−1 when a note is held through the beat), and **change** — a new
+//!   pitch starts on the beat (harmony moves at bar lines).
+//!
+//! Each *hypothesis* labels every tracked beat as a downbeat, a beat or a subdivision:
+//! * the tracked beats are the beats, `M` ∈ {2, 3, 4} per bar, phase `φ`
+//!   (labels: downbeat / beat);
+//! * the tracked beats are eighths of a simple metre (a tracker locked on double tempo):
+//!   every second one is a beat, `M` ∈ {2, 3, 4} beats per bar (downbeat / beat / eighth);
+//! * the tracked beats are eighths of 6/8: every third one is a beat, two beats per bar.
+//!
+//! The last two are tried only when the tracked tempo is at least
+//! [`MeterConfig::subdivision_min_bpm`]. For each hypothesis the strengths are fitted by the
+//! mean of each label (one-way ANOVA) and scored by the Bayesian information criterion
+//! `n ln(RSS / n) + k ln n` (k = number of labels, plus [`MeterConfig::subdivision_penalty`]
+//! for the finer-level readings); the lowest wins. A wrong bar length or phase puts strong
+//! and weak beats under one label, which raises the residual; extra labels must pay for
+//! themselves, and a hypothesis whose label means are not ordered downbeat ≥ beat ≥
+//! subdivision is not considered. The winner gives the downbeats, the beats (every second or third tracked
+//! beat for the finer-level readings) and the tempo at that level.
+
+use serde::{Deserialize, Serialize};
+
+use pitch_track::Note;
+
+use crate::onset::OnsetEnvelope;
+
+/// Beats per bar and subdivisions per beat: 4/4 = `{4, 2}`, 3/4 = `{3, 2}`, 2/4 = `{2, 2}`,
+/// 6/8 = `{2, 3}`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Meter {
+    /// Beats per bar.
+    pub beats_per_bar: u8,
+    /// Subdivisions per beat (3 = compound).
+    pub subdivisions: u8,
+}
+
+/// Weights of the beat-strength features and the compound-metre rule.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MeterConfig {
+    /// Weight of the onset accent.
+    pub accent_weight: f64,
+    /// Weight of the loudness over the first half of the beat.
+    pub level_weight: f64,
+    /// Weight of the onset-free space after the beat.
+    pub space_weight: f64,
+    /// Weight of the note duration (when notes are given).
+    pub duration_weight: f64,
+    /// Weight of a pitch change on the beat (when notes are given).
+    pub change_weight: f64,
+    /// The readings "tracked beats are eighths" are tried only at or above this tempo.
+    pub subdivision_min_bpm: f64,
+    /// Extra BIC cost of those readings, in units of `ln n`.
+    pub subdivision_penalty: f64,
+    /// Tolerance for a note onset to count as on the beat, in seconds.
+    pub note_tolerance_s: f64,
+}
+
+impl Default for MeterConfig {
+    fn default() -> Self {
+        Self {
+            accent_weight: 1.0,
+            level_weight: 1.0,
+            space_weight: 0.7,
+            duration_weight: 0.7,
+            change_weight: 0.4,
+            subdivision_min_bpm: 130.0,
+            subdivision_penalty: 1.0,
+            note_tolerance_s: 0.07,
+        }
+    }
+}
+
+/// The result of [`estimate_meter`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MeterEstimate {
+    /// The metre.
+    pub meter: Meter,
+    /// Beat times in seconds (every third input beat for a compound metre).
+    pub beats_s: Vec<f64>,
+    /// Downbeat times in seconds.
+    pub downbeats_s: Vec<f64>,
+    /// Beats per minute at the returned beat level.
+    pub tempo_bpm: f64,
+    /// Minus the winning BIC (higher is better; 0 when there were too few beats).
+    pub confidence: f64,
+}
+
+/// Chooses the metre and the downbeats of `beats_s` from the onset curves of `envelope`
+/// (the mean-aggregated onset strength and the loudness) and optional `notes`.
+/// With fewer than four beats the metre defaults to 4/4 and the first beat is the downbeat.
+pub fn estimate_meter(
+    beats_s: &[f64],
+    envelope: &OnsetEnvelope,
+    notes: Option<&[Note]>,
+    tempo_bpm: f64,
+    cfg: &MeterConfig,
+) -> MeterEstimate {
+    let hop_s = envelope.hop_s;
+    let fallback = || MeterEstimate {
+        meter: Meter {
+            beats_per_bar: 4,
+            subdivisions: 2,
+        },
+        beats_s: beats_s.to_vec(),
+        downbeats_s: beats_s.first().copied().into_iter().collect(),
+        tempo_bpm,
+        confidence: 0.0,
+    };
+    if beats_s.len() < 4 || hop_s <= 0.0 {
+        return fallback();
+    }
+    let strength = beat_strengths(beats_s, envelope, notes, cfg);
+    let n = strength.len();
+    let ln_n = (n as f64).ln();
+    // (beats per bar at the beat level, tracked beats per beat, phase of the first downbeat)
+    let mut hypotheses: Vec<(usize, usize, usize)> = Vec::new();
+    for m in [4usize, 3, 2] {
+        hypotheses.extend((0..m).map(|phase| (m, 1, phase)));
+    }
+    if tempo_bpm >= cfg.subdivision_min_bpm {
+        for m in [4usize, 3, 2] {
+            hypotheses.extend((0..2 * m).map(|phase| (m, 2, phase)));
+        }
+        hypotheses.extend((0..6).map(|phase| (2, 3, phase)));
+    }
+    let mut best: Option<((usize, usize, usize), f64)> = None;
+    for &(m, sub, phase) in &hypotheses {
+        let period = m * sub;
+        if n < 2 * period {
+            continue;
+        }
+        let label = |i: usize| {
+            let pos = (i + period - phase % period) % period;
+            if pos == 0 {
+                0
+            } else if pos % sub == 0 {
+                1
+            } else {
+                2
+            }
+        };
+        let labels = if sub == 1 { 2.0 } else { 3.0 };
+        let (rss, means) = fit(&strength, label);
+        // Accents are hierarchical: downbeats above beats above subdivisions.
+        if means[0] < means[1] || (sub > 1 && means[1] < means[2]) {
+            continue;
+        }
+        let rss = rss.max(1e-12 * n as f64);
+        let mut bic = n as f64 * (rss / n as f64).ln() + labels * ln_n;
+        if sub > 1 {
+            bic += cfg.subdivision_penalty * ln_n;
+        }
+        if best.is_none_or(|(_, b)| bic < b) {
+            best = Some(((m, sub, phase), bic));
+        }
+    }
+    let Some(((m, sub, phase), bic)) = best else {
+        return fallback();
+    };
+    let period = m * sub;
+    let downbeats_s: Vec<f64> = beats_s
+        .iter()
+        .skip(phase % period)
+        .step_by(period)
+        .copied()
+        .collect();
+    MeterEstimate {
+        meter: Meter {
+            beats_per_bar: m as u8,
+            subdivisions: if sub == 3 { 3 } else { 2 },
+        },
+        beats_s: beats_s
+            .iter()
+            .skip(phase % sub)
+            .step_by(sub)
+            .copied()
+            .collect(),
+        downbeats_s,
+        tempo_bpm: tempo_bpm / sub as f64,
+        confidence: -bic,
+    }
+}
+
+/// Residual sum of squares of `strength` around the mean of each label (0, 1, 2), and the
+/// means.
+fn fit(strength: &[f64], label: impl Fn(usize) -> usize) -> (f64, [f64; 3]) {
+    let mut sum = [0.0f64; 3];
+    let mut count = [0usize; 3];
+    for (i, &s) in strength.iter().enumerate() {
+        sum[label(i)] += s;
+        count[label(i)] += 1;
+    }
+    let mean = [0, 1, 2].map(|g| sum[g] / count[g].max(1) as f64);
+    let rss = strength
+        .iter()
+        .enumerate()
+        .map(|(i, &s)| (s - mean[label(i)]).powi(2))
+        .sum();
+    (rss, mean)
+}
+
+/// The weighted sum of z-scored features of every beat.
+fn beat_strengths(
+    beats_s: &[f64],
+    onsets: &OnsetEnvelope,
+    notes: Option<&[Note]>,
+    cfg: &MeterConfig,
+) -> Vec<f64> {
+    let (envelope, hop_s) = (&onsets.mean[..], onsets.hop_s);
+    let n = beats_s.len();
+    let frame =
+        |t: f64| ((t / hop_s).round().max(0.0) as usize).min(envelope.len().saturating_sub(1));
+    let ibi = |i: usize| {
+        if i + 1 < n {
+            beats_s[i + 1] - beats_s[i]
+        } else {
+            beats_s[i] - beats_s[i - 1]
+        }
+    };
+    let reach = ((0.05 / hop_s).round() as usize).max(1);
+    let mut accent = Vec::with_capacity(n);
+    let mut space = Vec::with_capacity(n);
+    let mut level = Vec::with_capacity(n);
+    for (i, &b) in beats_s.iter().enumerate() {
+        if envelope.is_empty() || onsets.loudness_db.len() != envelope.len() {
+            accent.push(0.0);
+            space.push(0.0);
+            level.push(0.0);
+            continue;
+        }
+        let c = frame(b);
+        let peak = envelope[c.saturating_sub(reach)..(c + reach + 1).min(envelope.len())]
+            .iter()
+            .copied()
+            .fold(0.0f32, f32::max);
+        accent.push(f64::from(peak).ln_1p());
+        let (lo, hi) = (frame(b + 0.15 * ibi(i)), frame(b + 0.85 * ibi(i)));
+        let inside = &envelope[lo..hi.max(lo + 1).min(envelope.len())];
+        let mean = inside.iter().map(|&v| f64::from(v)).sum::<f64>() / inside.len().max(1) as f64;
+        space.push(-mean.ln_1p());
+        let (lo, hi) = (frame(b + 0.05 * ibi(i)), frame(b + 0.5 * ibi(i)));
+        let first_half = &onsets.loudness_db[lo..hi.max(lo + 1).min(envelope.len())];
+        level.push(
+            first_half.iter().map(|&v| f64::from(v)).sum::<f64>() / first_half.len().max(1) as f64,
+        );
+    }
+    let mut strength = vec![0.0; n];
+    add_scaled(&mut strength, &accent, cfg.accent_weight);
+    add_scaled(&mut strength, &space, cfg.space_weight);
+    add_scaled(&mut strength, &level, cfg.level_weight);
+    if let Some(notes) = notes.filter(|n| !n.is_empty()) {
+        let mut duration = Vec::with_capacity(n);
+        let mut change = Vec::with_capacity(n);
+        for (i, &b) in beats_s.iter().enumerate() {
+            let starting = notes
+                .iter()
+                .enumerate()
+                .filter(|(_, x)| (x.onset_s - b).abs() <= cfg.note_tolerance_s)
+                .min_by(|a, c| (a.1.onset_s - b).abs().total_cmp(&(c.1.onset_s - b).abs()));
+            match starting {
+                Some((k, note)) => {
+                    duration.push(((note.offset_s - note.onset_s) / ibi(i)).max(0.125).log2());
+                    let changed = k == 0 || notes[k - 1].midi != note.midi;
+                    change.push(if changed { 1.0 } else { 0.0 });
+                }
+                None => {
+                    let held = notes.iter().any(|x| x.onset_s < b && x.offset_s > b);
+                    duration.push(if held { -1.0 } else { 0.0 });
+                    change.push(0.0);
+                }
+            }
+        }
+        add_scaled(&mut strength, &duration, cfg.duration_weight);
+        add_scaled(&mut strength, &change, cfg.change_weight);
+    }
+    strength
+}
+
+/// `acc += weight · zscore(feature)` (a constant feature adds nothing).
+fn add_scaled(acc: &mut [f64], feature: &[f64], weight: f64) {
+    let n = feature.len() as f64;
+    let mean = feature.iter().sum::<f64>() / n;
+    let sd = (feature.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / n).sqrt();
+    if sd > 1e-12 {
+        for (a, v) in acc.iter_mut().zip(feature) {
+            *a += weight * (v - mean) / sd;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn accents(m: usize, n: usize, offset: usize) -> (Vec<f64>, OnsetEnvelope) {
+        let hop_s = 0.01;
+        let beats: Vec<f64> = (0..n).map(|i| 0.5 + 0.5 * i as f64).collect();
+        let mut env = vec![0.0f32; 1 + (0.5 + 0.5 * n as f64 / hop_s) as usize + 100];
+        for (i, b) in beats.iter().enumerate() {
+            let k = (b / hop_s).round() as usize;
+            env[k] = if i % m == offset { 3.0 } else { 1.0 } + 0.1 * (i % 5) as f32;
+        }
+        let loudness_db = vec![0.0; env.len()];
+        let median = env.clone();
+        (
+            beats,
+            OnsetEnvelope {
+                hop_s,
+                mean: env,
+                median,
+                loudness_db,
+            },
+        )
+    }
+
+    #[test]
+    fn finds_bar_length_and_phase_from_accents() {
+        for (m, offset) in [(4, 1), (3, 2), (2, 0)] {
+            let (beats, env) = accents(m, 48, offset);
+            let est = estimate_meter(&beats, &env, None, 120.0, &MeterConfig::default());
+            assert_eq!(est.meter.beats_per_bar as usize, m);
+            assert!((est.downbeats_s[0] - beats[offset]).abs() < 1e-9);
+        }
+    }
+
+    #[test]
+    fn too_few_beats_fall_back_to_the_first_beat() {
+        let flat = OnsetEnvelope {
+            hop_s: 0.01,
+            mean: vec![0.0; 300],
+            median: vec![0.0; 300],
+            loudness_db: vec![0.0; 300],
+        };
+        let est = estimate_meter(&[1.0, 1.5], &flat, None, 120.0, &MeterConfig::default());
+        assert_eq!(est.downbeats_s, vec![1.0]);
+        let none = estimate_meter(&[], &flat, None, 0.0, &MeterConfig::default());
+        assert!(none.downbeats_s.is_empty());
+    }
+}

@@ -1,0 +1,110 @@
+//! Beat and downbeat accuracy on the synthetic violin, and behaviour on silence, short and
+//! damaged audio.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use beat_track::eval::{beat_prf, BEAT_TOLERANCE_S};
+use beat_track::synth::{render, SynthConfig};
+use beat_track::{BeatConfig, BeatError, BeatTracker};
+use pitch_track::{segment_notes, NoteConfig, PitchConfig, PitchTracker};
+
+#[test]
+fn varied_pieces_meet_the_beat_and_downbeat_goals() {
+    let tracker = BeatTracker::new(BeatConfig::default()).unwrap();
+    let pitch = PitchTracker::new(PitchConfig::default()).unwrap();
+    let (mut beat_sum, mut down_sum, mut down_plain_sum, mut n) = (0.0, 0.0, 0.0, 0.0);
+    for seed in 1..=8 {
+        let piece = render(&SynthConfig::varied(seed, 20.0)).unwrap();
+        let track = pitch.track(&piece.samples).unwrap();
+        let notes = segment_notes(
+            &track,
+            &piece.samples,
+            piece.sample_rate_hz,
+            &NoteConfig::default(),
+        )
+        .unwrap();
+        let with_notes = tracker.track(&piece.samples, Some(&notes)).unwrap();
+        let plain = tracker.track(&piece.samples, None).unwrap();
+        let beat = beat_prf(&piece.beats_s, &with_notes.beats_s, BEAT_TOLERANCE_S).f_measure;
+        let down = beat_prf(
+            &piece.downbeats_s,
+            &with_notes.downbeats_s,
+            BEAT_TOLERANCE_S,
+        )
+        .f_measure;
+        let down_plain =
+            beat_prf(&piece.downbeats_s, &plain.downbeats_s, BEAT_TOLERANCE_S).f_measure;
+        println!(
+            "seed {seed}: truth {:.0} bpm {}/{} → {:.1} bpm {}/{}: beat F {beat:.3}, downbeat F {down:.3} (no notes {down_plain:.3})",
+            piece.tempo_bpm, piece.time_signature.beats_per_bar, piece.time_signature.subdivisions,
+            with_notes.tempo_bpm, with_notes.meter.beats_per_bar, with_notes.meter.subdivisions
+        );
+        beat_sum += beat;
+        down_sum += down;
+        down_plain_sum += down_plain;
+        n += 1.0;
+    }
+    println!(
+        "mean beat F {:.3}, downbeat F {:.3} (no notes {:.3})",
+        beat_sum / n,
+        down_sum / n,
+        down_plain_sum / n
+    );
+    assert!(beat_sum / n >= 0.85, "beat F {}", beat_sum / n);
+    assert!(down_sum / n >= 0.70, "downbeat F {}", down_sum / n);
+}
+
+#[test]
+fn silence_has_no_onsets_and_no_beats() {
+    let tracker = BeatTracker::new(BeatConfig::default()).unwrap();
+    let a = tracker.track(&vec![0.0; 22_050 * 3], None).unwrap();
+    assert!(a.beats_s.is_empty() && a.downbeats_s.is_empty() && a.onsets_s.is_empty());
+    assert_eq!(a.tempo_bpm, 0.0);
+}
+
+#[test]
+fn short_audio_gives_few_beats_not_a_panic() {
+    let tracker = BeatTracker::new(BeatConfig::default()).unwrap();
+    let x: Vec<f32> = (0..2_205).map(|i| (i as f32 * 0.2).sin()).collect(); // 0.1 s
+    let a = tracker.track(&x, Some(&[])).unwrap();
+    assert!(a.beats_s.len() <= 1);
+    assert!(a.downbeats_s.len() <= a.beats_s.len());
+    let one = tracker.track(&[0.5], None).unwrap();
+    assert!(one.beats_s.is_empty());
+}
+
+#[test]
+fn bad_input_is_a_typed_error() {
+    let tracker = BeatTracker::new(BeatConfig::default()).unwrap();
+    assert!(matches!(
+        tracker.track(&[], None),
+        Err(BeatError::EmptyAudio)
+    ));
+    assert!(matches!(
+        tracker.track(&[0.0, f32::NAN], None),
+        Err(BeatError::NonFinite { index: 1 })
+    ));
+    assert!(BeatTracker::new(BeatConfig {
+        tightness: 0.0,
+        ..BeatConfig::default()
+    })
+    .is_err());
+}
+
+#[test]
+fn rubato_is_followed() {
+    // ±12 % tempo swing: the DP follows beat by beat.
+    let piece = render(&SynthConfig {
+        seed: 11,
+        rubato: 0.12,
+        tempo_bpm: 100.0,
+        bars: 12,
+        ..SynthConfig::default()
+    })
+    .unwrap();
+    let a = BeatTracker::new(BeatConfig::default())
+        .unwrap()
+        .track(&piece.samples, None)
+        .unwrap();
+    let f = beat_prf(&piece.beats_s, &a.beats_s, BEAT_TOLERANCE_S).f_measure;
+    assert!(f >= 0.85, "beat F {f}");
+}
