@@ -1,0 +1,76 @@
+//! The crate's error type.
+
+use std::path::PathBuf;
+
+/// Everything bowing-net (and emotion-net, which reuses [`crate::nn`]) can fail with.
+#[derive(Debug, thiserror::Error)]
+pub enum NetError {
+    /// A tensor operation failed (a shape or dtype bug, or out of memory).
+    #[error("tensor operation failed: {0}")]
+    Candle(#[from] candle_core::Error),
+    /// A file could not be read or written.
+    #[error("{path}: {reason}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// What went wrong and what to do.
+        reason: String,
+    },
+    /// A weights file is not one this version can use (wrong network, version or shapes).
+    #[error("{path}: not usable weights: {reason}")]
+    Weights {
+        /// The weights file (empty for the embedded defaults).
+        path: PathBuf,
+        /// What does not match, and what to do.
+        reason: String,
+    },
+    /// A data set folder or one of its files is missing or malformed.
+    #[error("{path}: {reason}")]
+    Data {
+        /// The offending file or folder.
+        path: PathBuf,
+        /// What is wrong and what to do.
+        reason: String,
+    },
+    /// An input array is unusable (empty, too short, NaN, wrong width).
+    #[error("bad input: {0}")]
+    Input(String),
+    /// A configuration value is out of range.
+    #[error("invalid configuration: {0}")]
+    Config(String),
+    /// Audio decoding or the mel spectrogram failed.
+    #[error(transparent)]
+    Dsp(#[from] dsp_mel::DspError),
+    /// Reading an OpenPose directory failed.
+    #[error(transparent)]
+    Pose(#[from] pose_preproc::PosePreprocError),
+}
+
+/// Shorthand for results of this crate.
+pub type Result<T> = std::result::Result<T, NetError>;
+
+impl NetError {
+    /// An [`NetError::Io`] for `path`.
+    pub fn io(path: impl Into<PathBuf>, reason: impl std::fmt::Display) -> Self {
+        NetError::Io {
+            path: path.into(),
+            reason: reason.to_string(),
+        }
+    }
+
+    /// A [`NetError::Data`] for `path`.
+    pub fn data(path: impl Into<PathBuf>, reason: impl std::fmt::Display) -> Self {
+        NetError::Data {
+            path: path.into(),
+            reason: reason.to_string(),
+        }
+    }
+
+    /// A [`NetError::Weights`] for `path`.
+    pub fn weights(path: impl Into<PathBuf>, reason: impl std::fmt::Display) -> Self {
+        NetError::Weights {
+            path: path.into(),
+            reason: reason.to_string(),
+        }
+    }
+}

@@ -1,0 +1,113 @@
+//! Stride-1 inference over a whole recording: one probability of "bow change" per frame.
+//!
+//! The spectrogram is cut into tiles of [`TILE_WINDOWS`] windows (plus the window's context)
+//! and each tile goes through the phase tree of [`BowingNet::sequence_logits`], so the
+//! convolutions run about once per frame instead of once per window.
+
+use candle_core::{Device, Tensor};
+use ndarray::ArrayView2;
+
+use crate::error::{NetError, Result};
+use crate::features::check_mel;
+use crate::model::{window_start, BowingNet, PHASES};
+
+/// Windows (frames) classified per tile.
+pub const TILE_WINDOWS: usize = 1024;
+/// Extra frames after the last window of a sequence so that every pool phase still has all
+/// of its windows (the phase tree truncates phases to a common length).
+pub const SEQUENCE_SLACK: usize = 2 * PHASES;
+
+/// Frames of input a sequence needs to classify `windows` windows.
+pub fn sequence_frames(net: &BowingNet, windows: usize) -> usize {
+    windows + net.config().window_frames - 1 + SEQUENCE_SLACK
+}
+
+/// The value used for frames before the start and after the end of a recording: its
+/// quietest value (silence).
+pub fn pad_value(mel: ArrayView2<f32>) -> f32 {
+    mel.iter().copied().fold(f32::INFINITY, f32::min)
+}
+
+/// Copies `len` frames of `mel` starting at frame `first` (may be negative or run past the
+/// end: those frames are `pad`) into `dst` (`len × bands`).
+pub fn copy_frames(mel: ArrayView2<f32>, first: isize, len: usize, pad: f32, dst: &mut [f32]) {
+    let bands = mel.ncols();
+    for (k, row) in dst.chunks_exact_mut(bands).take(len).enumerate() {
+        let f = first + k as isize;
+        if f >= 0 && (f as usize) < mel.nrows() {
+            for (d, s) in row.iter_mut().zip(mel.row(f as usize)) {
+                *d = *s;
+            }
+        } else {
+            row.fill(pad);
+        }
+    }
+}
+
+/// Per-frame probabilities that a bow change happens at that frame, for a `(frames, 128)`
+/// mel dB spectrogram (30 fps). Frame `t` is classified from the window
+/// `t − 30 .. t + 29`; frames outside the recording count as silence.
+pub fn frame_probabilities(net: &BowingNet, mel: ArrayView2<f32>) -> Result<Vec<f32>> {
+    let cfg = net.config();
+    check_mel(mel, cfg.n_mels)?;
+    let frames = mel.nrows();
+    let pad = pad_value(mel);
+    let center = cfg.center_offset() as isize;
+    let seq_len = sequence_frames(net, TILE_WINDOWS);
+    let tiles = frames.div_ceil(TILE_WINDOWS);
+    let mut out = vec![f32::NAN; frames];
+    let bands = cfg.n_mels;
+    let mut buf = vec![0.0f32; seq_len * bands];
+    for tile in 0..tiles {
+        let start = tile * TILE_WINDOWS;
+        copy_frames(mel, start as isize - center, seq_len, pad, &mut buf);
+        let x = Tensor::from_slice(&buf, (1, seq_len, bands), &Device::Cpu)?;
+        let logits = net.sequence_logits(&x, false)?;
+        let probs = BowingNet::change_probability(&logits)?.to_vec2::<f32>()?;
+        for (row, values) in probs.iter().enumerate() {
+            for (step, &p) in values.iter().enumerate() {
+                let (_, s) = window_start(row, step, 1);
+                if s < TILE_WINDOWS && start + s < frames {
+                    out[start + s] = p;
+                }
+            }
+        }
+    }
+    if out.iter().any(|p| p.is_nan()) {
+        return Err(NetError::Input(
+            "internal: a frame was not covered by the phase tree".into(),
+        ));
+    }
+    Ok(out)
+}
+
+/// The same probabilities computed window by window with [`BowingNet::forward_t`] (slow;
+/// the reference the fast path is tested against), for the frames in `range`.
+pub fn frame_probabilities_per_window(
+    net: &BowingNet,
+    mel: ArrayView2<f32>,
+    range: std::ops::Range<usize>,
+) -> Result<Vec<f32>> {
+    let cfg = net.config();
+    check_mel(mel, cfg.n_mels)?;
+    let pad = pad_value(mel);
+    let (w, bands) = (cfg.window_frames, cfg.n_mels);
+    let range = range.start.min(mel.nrows())..range.end.min(mel.nrows());
+    let n = range.len();
+    if n == 0 {
+        return Ok(Vec::new());
+    }
+    let mut buf = vec![0.0f32; n * w * bands];
+    for (k, chunk) in buf.chunks_exact_mut(w * bands).enumerate() {
+        let t = range.start + k;
+        copy_frames(
+            mel,
+            t as isize - cfg.center_offset() as isize,
+            w,
+            pad,
+            chunk,
+        );
+    }
+    let x = Tensor::from_vec(buf, (n, w, bands), &Device::Cpu)?;
+    Ok(BowingNet::change_probability(&net.forward_t(&x, false)?)?.to_vec1::<f32>()?)
+}

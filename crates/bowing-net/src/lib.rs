@@ -1,0 +1,44 @@
+//! # bowing-net
+//!
+//! The bow-change CNN of SPEC §4 on candle (CPU): a 60-frame × 128-band mel window around a
+//! frame → the probability that the bow changes direction at that frame.
+//!
+//! * [`model`]: the network ([`BowingNet`], candle model style: `Config`,
+//!   `BowingNet::new(cfg, vb)`, `forward_t(&x, train)`) and its phase-tree evaluation that
+//!   classifies every frame of a recording with shared convolutions;
+//! * [`infer`]: stride-1 frame probabilities; [`decode`]: threshold + peak picking with a
+//!   minimum spacing; [`metrics`]: P/R/F1 with a frame tolerance;
+//! * [`data`]: labelled recordings from the synthetic corpus or a URMP-style folder
+//!   (labels from OpenPose skeletons through `pose-preproc`); [`train`]: the training loop
+//!   (Adam, class-balanced loss, early stopping, checkpoints and resume);
+//! * [`BowChangeDetector`]: weights + normalisation + decoder in one safetensors file;
+//!   [`BowChangeDetector::pretrained`] is the shipped default (see the README for how it was
+//!   trained);
+//! * [`nn`]: building blocks shared with emotion-net (fast NHWC convolution, max pool with a
+//!   correct backward, seeded dropout, checkpointable Adam, weights files).
+//!
+//! ```no_run
+//! use bowing_net::{features::bowing_mel, BowChangeDetector};
+//! let audio = dsp_mel::load_audio("take1.wav")?;
+//! let mel = bowing_mel(&audio)?;                       // (frames, 128) dB at 30 fps
+//! let detector = BowChangeDetector::pretrained()?;
+//! let frames = detector.detect_frames(mel.view())?;   // bow-change frames
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+pub mod data;
+pub mod decode;
+pub mod detector;
+mod error;
+pub mod features;
+pub mod infer;
+pub mod metrics;
+pub mod model;
+pub mod nn;
+pub mod train;
+
+pub use decode::Decoder;
+pub use detector::BowChangeDetector;
+pub use error::{NetError, Result};
+pub use model::{BowingNet, Config};
+pub use train::{train, TrainConfig, TrainProgress, TrainReport};

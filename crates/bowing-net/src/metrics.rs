@@ -1,0 +1,176 @@
+//! Precision, recall and F1 of detected bow changes with a frame tolerance, summed over
+//! recordings (micro average), plus the two checks the README reports: agreement with note
+//! onsets, and false changes on slurred note changes.
+
+use std::collections::BTreeMap;
+
+pub use pose_preproc::metrics::{match_events, EventMatch};
+use serde::{Deserialize, Serialize};
+
+/// Matched / unmatched counts that add up over recordings.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Counts {
+    /// Predicted events matched to a reference event.
+    pub true_positives: usize,
+    /// Predicted events without a match.
+    pub false_positives: usize,
+    /// Reference events without a match.
+    pub false_negatives: usize,
+}
+
+impl Counts {
+    /// Adds one recording's match.
+    pub fn add(&mut self, m: &EventMatch) {
+        self.true_positives += m.true_positives;
+        self.false_positives += m.false_positives;
+        self.false_negatives += m.false_negatives;
+    }
+
+    /// `tp / (tp + fp)` (1 when nothing was predicted).
+    pub fn precision(&self) -> f64 {
+        let d = self.true_positives + self.false_positives;
+        if d == 0 {
+            1.0
+        } else {
+            self.true_positives as f64 / d as f64
+        }
+    }
+
+    /// `tp / (tp + fn)` (1 when there was nothing to find).
+    pub fn recall(&self) -> f64 {
+        let d = self.true_positives + self.false_negatives;
+        if d == 0 {
+            1.0
+        } else {
+            self.true_positives as f64 / d as f64
+        }
+    }
+
+    /// Harmonic mean of precision and recall.
+    ///
+    /// ```
+    /// let c = bowing_net::metrics::Counts { true_positives: 8, false_positives: 2, false_negatives: 2 };
+    /// assert!((c.f1() - 0.8).abs() < 1e-12);
+    /// ```
+    pub fn f1(&self) -> f64 {
+        let (p, r) = (self.precision(), self.recall());
+        if p + r == 0.0 {
+            0.0
+        } else {
+            2.0 * p * r / (p + r)
+        }
+    }
+}
+
+/// Which predictions are matched to a reference event (same closest-first, one-to-one rule
+/// as [`match_events`]); both lists sorted.
+pub fn matched_predictions(predicted: &[usize], truth: &[usize], tolerance: usize) -> Vec<bool> {
+    let mut pairs: Vec<(usize, usize, usize)> = Vec::new();
+    for (i, &p) in predicted.iter().enumerate() {
+        let lo = truth.partition_point(|&t| t + tolerance < p);
+        for (j, &t) in truth.iter().enumerate().skip(lo) {
+            if t > p + tolerance {
+                break;
+            }
+            pairs.push((p.abs_diff(t), i, j));
+        }
+    }
+    pairs.sort_unstable();
+    let mut used_p = vec![false; predicted.len()];
+    let mut used_t = vec![false; truth.len()];
+    for (_, i, j) in pairs {
+        if !used_p[i] && !used_t[j] {
+            used_p[i] = true;
+            used_t[j] = true;
+        }
+    }
+    used_p
+}
+
+/// Accumulated figures for a set of recordings.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct Scores {
+    /// Recordings scored.
+    pub recordings: usize,
+    /// Their total length in minutes.
+    pub minutes: f64,
+    /// Bow changes, ±2 frames.
+    pub changes_2: Counts,
+    /// Bow changes, ±3 frames.
+    pub changes_3: Counts,
+    /// Predictions against note onsets, ±3 frames (empty when onsets are unknown).
+    pub onsets_3: Counts,
+    /// Note changes inside slurs (no bow change there).
+    pub slurred_changes: usize,
+    /// Slurred note changes with a false predicted change within ±3 frames.
+    pub slurred_false_alarms: usize,
+}
+
+impl Scores {
+    /// Adds one recording: `predicted` frames against its labels.
+    pub fn add(
+        &mut self,
+        predicted: &[usize],
+        changes: &[usize],
+        onsets: &[usize],
+        slurred: &[usize],
+        frames: usize,
+    ) {
+        self.recordings += 1;
+        self.minutes += frames as f64 / 30.0 / 60.0;
+        self.changes_2.add(&match_events(predicted, changes, 2));
+        self.changes_3.add(&match_events(predicted, changes, 3));
+        if !onsets.is_empty() {
+            self.onsets_3.add(&match_events(predicted, onsets, 3));
+        }
+        let matched = matched_predictions(predicted, changes, 3);
+        let false_preds: Vec<usize> = predicted
+            .iter()
+            .zip(&matched)
+            .filter(|(_, &m)| !m)
+            .map(|(&p, _)| p)
+            .collect();
+        self.slurred_changes += slurred.len();
+        self.slurred_false_alarms += slurred
+            .iter()
+            .filter(|&&s| false_preds.iter().any(|&p| p.abs_diff(s) <= 3))
+            .count();
+    }
+
+    /// Share of slurred note changes left without a false change (1 = no false alarm).
+    pub fn slur_precision(&self) -> f64 {
+        if self.slurred_changes == 0 {
+            1.0
+        } else {
+            1.0 - self.slurred_false_alarms as f64 / self.slurred_changes as f64
+        }
+    }
+}
+
+/// Scores over all recordings and per source group (`builtin`, `soundfont`, `urmp`).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct Evaluation {
+    /// Everything.
+    pub all: Scores,
+    /// Per group.
+    pub by_group: BTreeMap<String, Scores>,
+}
+
+/// Detects bow changes in every recording with `detector` and scores them.
+pub fn evaluate(
+    detector: &crate::BowChangeDetector,
+    recordings: &[crate::data::Recording],
+) -> crate::Result<Evaluation> {
+    let mut eval = Evaluation::default();
+    for r in recordings {
+        let predicted = detector.detect_frames(r.mel_db.view())?;
+        let frames = r.mel_db.nrows();
+        eval.all
+            .add(&predicted, &r.changes, &r.onsets, &r.slurred, frames);
+        eval.by_group
+            .entry(r.group.clone())
+            .or_default()
+            .add(&predicted, &r.changes, &r.onsets, &r.slurred, frames);
+    }
+    Ok(eval)
+}

@@ -1,0 +1,200 @@
+//! A trained arousal network as stored in a weights file, and whole-recording inference
+//! (sliding 20-step windows, one step apart, overlap-averaged).
+
+use std::collections::HashMap;
+use std::path::Path;
+
+use bowing_net::features::check_mel;
+use bowing_net::nn::store::{self, TensorFile, KEY_FORMAT, KEY_VERSION};
+use bowing_net::NetError;
+use candle_core::{DType, Device, Tensor};
+use candle_nn::{VarBuilder, VarMap};
+use ndarray::ArrayView2;
+
+use crate::error::Result;
+use crate::features::emotion_mel;
+use crate::model::{Config, EmotionNet};
+
+/// Value of the `format` metadata entry of emotion-net weights.
+pub const FORMAT_NAME: &str = "violin-skeleton/emotion-net";
+/// Current weights format version.
+pub const FORMAT_VERSION: u32 = 1;
+
+/// The shipped default weights (see the crate README for how they were trained).
+static PRETRAINED: &[u8] = include_bytes!("../weights/emotion-net.safetensors");
+
+/// Arousal estimation: the network with its normalisation.
+///
+/// ```no_run
+/// let est = emotion_net::ArousalEstimator::pretrained()?;
+/// let audio = dsp_mel::load_audio("take1.wav")?;
+/// let arousal = est.predict_audio(&audio)?; // 2 values per second, in [-1, 1]
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Debug)]
+pub struct ArousalEstimator {
+    net: EmotionNet,
+    tensors: Vec<(String, Tensor)>,
+    training: String,
+}
+
+/// The variable names and shapes a network of `cfg` has.
+pub fn expected_shapes(cfg: &Config) -> Result<Vec<(String, Vec<usize>)>> {
+    let varmap = VarMap::new();
+    EmotionNet::new(
+        cfg,
+        VarBuilder::from_varmap(&varmap, DType::F32, &Device::Cpu),
+    )?;
+    Ok(store::var_shapes(&varmap))
+}
+
+impl ArousalEstimator {
+    /// The embedded default weights.
+    pub fn pretrained() -> Result<Self> {
+        Self::from_bytes(PRETRAINED, Path::new("<embedded emotion-net weights>"))
+    }
+
+    /// Reads weights written by [`ArousalEstimator::save`]; rejects other networks, other
+    /// format versions and tensors whose shapes do not match the stored configuration.
+    pub fn load(path: &Path) -> Result<Self> {
+        Self::from_file(store::read(path)?, path)
+    }
+
+    /// [`ArousalEstimator::load`] from bytes; `path` names them in errors.
+    pub fn from_bytes(bytes: &[u8], path: &Path) -> Result<Self> {
+        Self::from_file(store::decode(bytes, path)?, path)
+    }
+
+    fn from_file(file: TensorFile, path: &Path) -> Result<Self> {
+        file.check_format(path, FORMAT_NAME, FORMAT_VERSION)?;
+        let cfg: Config = serde_json::from_str(file.meta("config", path)?)
+            .map_err(|e| NetError::weights(path, format!("bad \"config\" metadata ({e})")))?;
+        cfg.validate().map_err(|e| NetError::weights(path, e))?;
+        let expected = expected_shapes(&cfg)?;
+        file.check_shapes(path, &expected)?;
+        let tensors = expected
+            .iter()
+            .filter_map(|(n, _)| file.tensors.get(n).map(|t| (n.clone(), t.clone())))
+            .collect();
+        let training = file.metadata.get("training").cloned().unwrap_or_default();
+        Self::from_tensors(&cfg, tensors, training)
+    }
+
+    /// An estimator from named tensors (as in a weights file).
+    pub fn from_tensors(
+        cfg: &Config,
+        tensors: Vec<(String, Tensor)>,
+        training: String,
+    ) -> Result<Self> {
+        let map: HashMap<String, Tensor> = tensors.iter().cloned().collect();
+        let net = EmotionNet::new(cfg, VarBuilder::from_tensors(map, DType::F32, &Device::Cpu))?;
+        Ok(Self {
+            net,
+            tensors,
+            training,
+        })
+    }
+
+    /// Writes the weights file (through a temporary file).
+    pub fn save(&self, path: &Path) -> Result<()> {
+        Ok(store::write_atomically(path, &self.to_bytes()?)?)
+    }
+
+    /// The weights file's bytes.
+    pub fn to_bytes(&self) -> Result<Vec<u8>> {
+        let mut meta = HashMap::new();
+        meta.insert(KEY_FORMAT.to_string(), FORMAT_NAME.to_string());
+        meta.insert(KEY_VERSION.to_string(), FORMAT_VERSION.to_string());
+        let cfg = serde_json::to_string(self.net.config())
+            .map_err(|e| NetError::Config(e.to_string()))?;
+        meta.insert("config".into(), cfg);
+        meta.insert("training".into(), self.training.clone());
+        Ok(store::encode(&self.tensors, meta)?)
+    }
+
+    /// The network.
+    pub fn net(&self) -> &EmotionNet {
+        &self.net
+    }
+
+    /// How the weights were trained (JSON written by the trainer; may be empty).
+    pub fn training_info(&self) -> &str {
+        &self.training
+    }
+
+    /// Replaces the training description.
+    pub fn set_training_info(&mut self, info: String) {
+        self.training = info;
+    }
+
+    /// Arousal per frame (2 Hz, clamped to [-1, 1]) of a `(frames, 64)` mel dB spectrogram.
+    pub fn predict(&self, mel_db: ArrayView2<f32>) -> Result<Vec<f32>> {
+        predict_with(&self.net, mel_db)
+    }
+
+    /// Arousal at 2 Hz of a recording.
+    pub fn predict_audio(&self, audio: &dsp_mel::Audio) -> Result<Vec<f32>> {
+        self.predict(emotion_mel(audio)?.view())
+    }
+}
+
+/// Overlap-averaged arousal of a whole spectrogram with `net` (inference mode): every
+/// `steps`-frame window one frame apart; a recording shorter than one window is padded with
+/// its quietest value and the output cut back.
+pub fn predict_with(net: &EmotionNet, mel_db: ArrayView2<f32>) -> Result<Vec<f32>> {
+    let cfg = net.config();
+    check_mel(mel_db, cfg.n_mels)?;
+    let frames = mel_db.nrows();
+    let t = cfg.steps;
+    let pad = mel_db.iter().copied().fold(f32::INFINITY, f32::min);
+    let padded = frames.max(t);
+    let windows = padded - t + 1;
+    let bands = cfg.n_mels;
+    let mut buf = vec![0.0f32; windows * t * bands];
+    for (w, chunk) in buf.chunks_exact_mut(t * bands).enumerate() {
+        bowing_net::infer::copy_frames(mel_db, w as isize, t, pad, chunk);
+    }
+    let x = Tensor::from_vec(buf, (windows, t, bands), &Device::Cpu)?;
+    let y = net.forward_t(&x, false)?.to_vec2::<f32>()?;
+    let mut sum = vec![0.0f32; padded];
+    let mut count = vec![0u32; padded];
+    for (w, row) in y.iter().enumerate() {
+        for (k, v) in row.iter().enumerate() {
+            sum[w + k] += v;
+            count[w + k] += 1;
+        }
+    }
+    Ok(sum
+        .iter()
+        .zip(&count)
+        .take(frames)
+        .map(|(s, &c)| (s / c.max(1) as f32).clamp(-1.0, 1.0))
+        .collect())
+}
+
+/// Pearson correlation of two equally long series (0 when either is constant).
+///
+/// ```
+/// let r = emotion_net::estimator::pearson(&[1.0, 2.0, 3.0], &[2.0, 4.0, 6.5]);
+/// assert!(r > 0.99);
+/// ```
+pub fn pearson(a: &[f32], b: &[f32]) -> f64 {
+    let n = a.len().min(b.len());
+    if n < 2 {
+        return 0.0;
+    }
+    let ma = a[..n].iter().map(|&v| f64::from(v)).sum::<f64>() / n as f64;
+    let mb = b[..n].iter().map(|&v| f64::from(v)).sum::<f64>() / n as f64;
+    let (mut sab, mut saa, mut sbb) = (0.0, 0.0, 0.0);
+    for (&x, &y) in a[..n].iter().zip(&b[..n]) {
+        let (dx, dy) = (f64::from(x) - ma, f64::from(y) - mb);
+        sab += dx * dy;
+        saa += dx * dx;
+        sbb += dy * dy;
+    }
+    if saa == 0.0 || sbb == 0.0 {
+        0.0
+    } else {
+        sab / (saa * sbb).sqrt()
+    }
+}

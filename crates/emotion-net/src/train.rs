@@ -1,0 +1,511 @@
+//! Training on arousal-labelled tracks: 20-step windows every `window_hop` frames over the
+//! annotated part of each training track, masked MSE, Adam (seeded initialisation, order and
+//! dropout), early stopping on the validation Pearson r of whole-track (overlap-averaged)
+//! predictions, best weights written to the output whenever they improve, and a checkpoint
+//! (`NAME.ckpt.safetensors`) after every epoch for `resume`.
+
+use std::collections::HashMap;
+use std::path::Path;
+use std::time::Instant;
+
+use bowing_net::nn::{store, Adam, AdamConfig};
+use bowing_net::train::checkpoint_path;
+use bowing_net::NetError;
+use candle_core::{DType, Device, Tensor};
+use candle_nn::{VarBuilder, VarMap};
+use corpus::rng::Rng;
+use serde::{Deserialize, Serialize};
+
+use crate::data::{ArousalSplits, ArousalTrack};
+use crate::error::Result;
+use crate::estimator::{pearson, predict_with, ArousalEstimator, FORMAT_VERSION};
+use crate::model::{Config, EmotionNet};
+
+/// Training settings.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct TrainConfig {
+    /// The network's shape.
+    pub model: Config,
+    /// Maximum epochs.
+    pub epochs: usize,
+    /// Stop after this many epochs without a better validation r.
+    pub patience: usize,
+    /// Seed of initialisation, order and dropout.
+    pub seed: u64,
+    /// Adam's initial learning rate.
+    pub learning_rate: f64,
+    /// Learning-rate factor per epoch.
+    pub lr_decay_per_epoch: f64,
+    /// Windows per step.
+    pub batch_windows: usize,
+    /// Frames between training windows.
+    pub window_hop: usize,
+    /// Cap on steps per epoch (tests).
+    pub max_steps_per_epoch: Option<usize>,
+    /// Free text stored with the weights (e.g. the data folder).
+    pub data_description: String,
+}
+
+impl Default for TrainConfig {
+    fn default() -> Self {
+        Self {
+            model: Config::default(),
+            epochs: 60,
+            patience: 10,
+            seed: 1,
+            learning_rate: 3e-3,
+            lr_decay_per_epoch: 0.97,
+            batch_windows: 32,
+            window_hop: 2,
+            max_steps_per_epoch: None,
+            data_description: String::new(),
+        }
+    }
+}
+
+/// What the progress callback is told.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TrainProgress {
+    /// Epoch (0-based).
+    pub epoch: usize,
+    /// Maximum epochs.
+    pub epochs: usize,
+    /// Steps done in this epoch.
+    pub step: usize,
+    /// Steps in this epoch.
+    pub steps: usize,
+    /// Mean training loss (MSE) of this epoch so far.
+    pub loss: f32,
+    /// Validation Pearson r of the epoch just finished (`None` during the epoch).
+    pub val_r: Option<f64>,
+    /// Best validation r so far.
+    pub best_r: f64,
+}
+
+/// The result of [`train`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TrainReport {
+    /// Epochs completed (including ones before a resume).
+    pub epochs_run: usize,
+    /// Epoch (0-based) of the kept weights.
+    pub best_epoch: usize,
+    /// Validation Pearson r of the kept weights.
+    pub best_val_r: f64,
+    /// Mean training loss per epoch.
+    pub epoch_losses: Vec<f32>,
+    /// Whether early stopping ended training.
+    pub stopped_early: bool,
+    /// Training tracks.
+    pub train_tracks: usize,
+    /// Training audio in minutes.
+    pub train_minutes: f64,
+    /// Wall time of this run in seconds.
+    pub wall_s: f64,
+}
+
+/// Format name of checkpoints.
+pub const CHECKPOINT_FORMAT: &str = "violin-skeleton/emotion-net-checkpoint";
+
+#[derive(Debug, Clone, Serialize, Deserialize)]
+struct CheckpointState {
+    next_epoch: usize,
+    best_r: f64,
+    best_epoch: usize,
+    since_best: usize,
+    epoch_losses: Vec<f32>,
+    model: Config,
+}
+
+/// Predictions and targets of every track, concatenated (for a pooled Pearson r).
+pub fn predictions(net: &EmotionNet, tracks: &[ArousalTrack]) -> Result<(Vec<f32>, Vec<f32>)> {
+    let (mut p, mut y) = (Vec::new(), Vec::new());
+    for t in tracks {
+        let pred = predict_with(net, t.mel_db.view())?;
+        for (k, &a) in t.arousal.iter().enumerate() {
+            if let Some(&v) = pred.get(t.first_frame + k) {
+                p.push(v);
+                y.push(a);
+            }
+        }
+    }
+    Ok((p, y))
+}
+
+/// Pearson r and RMSE of `net` on `tracks` (pooled over all annotated frames).
+pub fn score(net: &EmotionNet, tracks: &[ArousalTrack]) -> Result<(f64, f64)> {
+    let (p, y) = predictions(net, tracks)?;
+    let mse = p
+        .iter()
+        .zip(&y)
+        .map(|(a, b)| f64::from(a - b).powi(2))
+        .sum::<f64>()
+        / p.len().max(1) as f64;
+    Ok((pearson(&p, &y), mse.sqrt()))
+}
+
+/// Pearson r and RMSE of a set of tracks.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct Scores {
+    /// Tracks scored.
+    pub tracks: usize,
+    /// Their annotated length in minutes.
+    pub minutes: f64,
+    /// Pearson r over all annotated frames pooled.
+    pub pearson_r: f64,
+    /// Root mean square error.
+    pub rmse: f64,
+}
+
+/// Scores over all tracks and per group (`builtin`, `soundfont`, `deam`).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct Evaluation {
+    /// Everything.
+    pub all: Scores,
+    /// Per group.
+    pub by_group: std::collections::BTreeMap<String, Scores>,
+}
+
+/// Scores `net` on `tracks`, in total and per group.
+pub fn evaluate(net: &EmotionNet, tracks: &[ArousalTrack]) -> Result<Evaluation> {
+    let scores = |ts: &[&ArousalTrack]| -> Result<Scores> {
+        let owned: Vec<ArousalTrack> = ts.iter().map(|t| (*t).clone()).collect();
+        let (r, rmse) = score(net, &owned)?;
+        let frames: usize = ts.iter().map(|t| t.arousal.len()).sum();
+        Ok(Scores {
+            tracks: ts.len(),
+            minutes: frames as f64 / 2.0 / 60.0,
+            pearson_r: r,
+            rmse,
+        })
+    };
+    let all: Vec<&ArousalTrack> = tracks.iter().collect();
+    let mut eval = Evaluation {
+        all: scores(&all)?,
+        by_group: Default::default(),
+    };
+    let mut groups: std::collections::BTreeMap<&str, Vec<&ArousalTrack>> = Default::default();
+    for t in tracks {
+        groups.entry(t.group.as_str()).or_default().push(t);
+    }
+    for (g, ts) in groups {
+        eval.by_group.insert(g.to_string(), scores(&ts)?);
+    }
+    Ok(eval)
+}
+
+fn band_statistics(tracks: &[ArousalTrack], bands: usize) -> (Vec<f32>, Vec<f32>) {
+    let mut sum = vec![0.0f64; bands];
+    let mut sq = vec![0.0f64; bands];
+    let mut n = 0usize;
+    for t in tracks {
+        for row in t.mel_db.rows() {
+            for (k, &v) in row.iter().enumerate().take(bands) {
+                sum[k] += f64::from(v);
+                sq[k] += f64::from(v).powi(2);
+            }
+            n += 1;
+        }
+    }
+    let n = n.max(1) as f64;
+    let mean = sum.iter().map(|s| (s / n) as f32).collect();
+    let std = sq
+        .iter()
+        .zip(&sum)
+        .map(|(q, s)| (q / n - (s / n).powi(2)).max(0.0).sqrt().max(1e-3) as f32)
+        .collect();
+    (mean, std)
+}
+
+fn check_tracks(tracks: &[ArousalTrack], what: &str, bands: usize) -> Result<()> {
+    if tracks.iter().all(|t| t.arousal.is_empty()) {
+        return Err(NetError::Input(format!(
+            "no annotated {what} tracks: the data needs train and validation items"
+        ))
+        .into());
+    }
+    for t in tracks {
+        bowing_net::features::check_mel(t.mel_db.view(), bands)
+            .map_err(|e| NetError::Input(format!("{}: {e}", t.name)))?;
+        if t.arousal.iter().any(|v| !v.is_finite()) {
+            return Err(NetError::Input(format!("{}: non-finite arousal target", t.name)).into());
+        }
+    }
+    Ok(())
+}
+
+/// All model tensors to save: trainable and normalisation variables, with the batch-norm
+/// running statistics taken from the network.
+fn model_tensors(varmap: &VarMap, net: &EmotionNet) -> Result<Vec<(String, Tensor)>> {
+    let running: HashMap<String, Tensor> = net.running_stats().into_iter().collect();
+    store::var_tensors(varmap)
+        .into_iter()
+        .map(|(n, t)| {
+            let t = running.get(&n).cloned().unwrap_or(t);
+            Ok((n, t.copy()?))
+        })
+        .collect()
+}
+
+/// Trains the arousal network (module docs); `progress` is called after every step and at
+/// the end of every epoch.
+pub fn train(
+    data: &ArousalSplits,
+    cfg: &TrainConfig,
+    out: &Path,
+    resume: bool,
+    progress: &mut dyn FnMut(&TrainProgress),
+) -> Result<TrainReport> {
+    let started = Instant::now();
+    let mcfg = &cfg.model;
+    mcfg.validate()?;
+    if cfg.batch_windows == 0 || cfg.window_hop == 0 {
+        return Err(
+            NetError::Config("batch_windows and window_hop must be positive".into()).into(),
+        );
+    }
+    check_tracks(&data.train, "training", mcfg.n_mels)?;
+    check_tracks(&data.val, "validation", mcfg.n_mels)?;
+    let varmap = VarMap::new();
+    let net = EmotionNet::new(
+        mcfg,
+        VarBuilder::from_varmap(&varmap, DType::F32, &Device::Cpu),
+    )?;
+    store::init_seeded(&varmap, cfg.seed, |name, dims| {
+        if name.starts_with("norm.")
+            || name.contains("running_")
+            || name.contains("gamma")
+            || name.contains("beta")
+        {
+            None
+        } else if name.contains("bias") {
+            Some(0.0)
+        } else {
+            let fan_in: usize = dims.iter().skip(1).product();
+            Some((3.0 / fan_in.max(1) as f64).sqrt())
+        }
+    })?;
+    let (mean, std) = band_statistics(&data.train, mcfg.n_mels);
+    let mut fixed = HashMap::new();
+    fixed.insert(
+        "norm.mean".to_string(),
+        Tensor::new(mean.as_slice(), &Device::Cpu)?,
+    );
+    fixed.insert(
+        "norm.std".to_string(),
+        Tensor::new(std.as_slice(), &Device::Cpu)?,
+    );
+    store_set(&varmap, &fixed)?;
+    let frozen = |n: &str| n.starts_with("norm.") || n.contains("running_");
+    let mut adam = Adam::new(
+        store::trainable_vars(&varmap, frozen),
+        AdamConfig {
+            learning_rate: cfg.learning_rate,
+            ..AdamConfig::default()
+        },
+    )?;
+    let ckpt = checkpoint_path(out);
+    let mut state = CheckpointState {
+        next_epoch: 0,
+        best_r: -2.0,
+        best_epoch: 0,
+        since_best: 0,
+        epoch_losses: Vec::new(),
+        model: mcfg.clone(),
+    };
+    if resume {
+        let file = store::read(&ckpt)?;
+        file.check_format(&ckpt, CHECKPOINT_FORMAT, FORMAT_VERSION)?;
+        state = serde_json::from_str(file.meta("state", &ckpt)?)
+            .map_err(|e| NetError::weights(&ckpt, format!("bad \"state\" metadata ({e})")))?;
+        if &state.model != mcfg {
+            return Err(NetError::weights(
+                &ckpt,
+                "the checkpoint's network shape differs from the requested one",
+            )
+            .into());
+        }
+        store::load_into(&varmap, &file.tensors, &ckpt)?;
+        adam.load_state(&file.tensors)?;
+    }
+
+    let t = mcfg.steps;
+    let bands = mcfg.n_mels;
+    let pads: Vec<f32> = data
+        .train
+        .iter()
+        .map(|tr| tr.mel_db.iter().copied().fold(f32::INFINITY, f32::min))
+        .collect();
+    let mut windows: Vec<(usize, usize)> = Vec::new();
+    for (i, tr) in data.train.iter().enumerate() {
+        let (first, len) = (tr.first_frame, tr.arousal.len());
+        if len == 0 {
+            continue;
+        }
+        let last = first + len.saturating_sub(t);
+        let mut s = first;
+        while s <= last {
+            windows.push((i, s));
+            s += cfg.window_hop;
+        }
+        if (last - first) % cfg.window_hop != 0 {
+            windows.push((i, last));
+        }
+    }
+    let mut stopped_early = false;
+    let mut epoch = state.next_epoch;
+    while epoch < cfg.epochs {
+        let mut rng = Rng::new(cfg.seed).fork(epoch as u64 + 1);
+        net.dropout_rng().reseed(rng.next_u64());
+        adam.config.learning_rate = cfg.learning_rate * cfg.lr_decay_per_epoch.powi(epoch as i32);
+        let mut order = windows.clone();
+        for i in (1..order.len()).rev() {
+            let j = (rng.next_u64() % (i as u64 + 1)) as usize;
+            order.swap(i, j);
+        }
+        let mut steps = order.len().div_ceil(cfg.batch_windows);
+        if let Some(cap) = cfg.max_steps_per_epoch {
+            steps = steps.min(cap);
+        }
+        let mut loss_sum = 0.0f64;
+        for (step, batch) in order.chunks(cfg.batch_windows).take(steps).enumerate() {
+            let b = batch.len();
+            let mut x = vec![0.0f32; b * t * bands];
+            let mut y = vec![0.0f32; b * t];
+            let mut mask = vec![0.0f32; b * t];
+            for (k, &(i, s)) in batch.iter().enumerate() {
+                let tr = &data.train[i];
+                bowing_net::infer::copy_frames(
+                    tr.mel_db.view(),
+                    s as isize,
+                    t,
+                    pads[i],
+                    &mut x[k * t * bands..][..t * bands],
+                );
+                for j in 0..t {
+                    if let Some(&a) = (s + j)
+                        .checked_sub(tr.first_frame)
+                        .and_then(|o| tr.arousal.get(o))
+                    {
+                        y[k * t + j] = a;
+                        mask[k * t + j] = 1.0;
+                    }
+                }
+            }
+            let xt = Tensor::from_vec(x, (b, t, bands), &Device::Cpu)?;
+            let yt = Tensor::from_vec(y, (b, t), &Device::Cpu)?;
+            let mt = Tensor::from_vec(mask, (b, t), &Device::Cpu)?;
+            let pred = net.forward_t(&xt, true)?;
+            let n = mt.sum_all()?.to_scalar::<f32>()?.max(1.0);
+            let loss = ((pred - yt)?.sqr()? * &mt)?
+                .sum_all()?
+                .affine(1.0 / f64::from(n), 0.0)?;
+            let value = loss.to_scalar::<f32>()?;
+            if !value.is_finite() {
+                return Err(NetError::Input(format!(
+                    "training diverged (loss {value}); lower the learning rate"
+                ))
+                .into());
+            }
+            adam.backward_step(&loss)?;
+            loss_sum += f64::from(value);
+            progress(&TrainProgress {
+                epoch,
+                epochs: cfg.epochs,
+                step: step + 1,
+                steps,
+                loss: (loss_sum / (step + 1) as f64) as f32,
+                val_r: None,
+                best_r: state.best_r.max(0.0),
+            });
+        }
+        let epoch_loss = (loss_sum / steps.max(1) as f64) as f32;
+        state.epoch_losses.push(epoch_loss);
+        let (r, _) = score(&net, &data.val)?;
+        if r > state.best_r {
+            state.best_r = r;
+            state.best_epoch = epoch;
+            state.since_best = 0;
+            ArousalEstimator::from_tensors(mcfg, model_tensors(&varmap, &net)?, String::new())?
+                .save(out)?;
+        } else {
+            state.since_best += 1;
+        }
+        progress(&TrainProgress {
+            epoch,
+            epochs: cfg.epochs,
+            step: steps,
+            steps,
+            loss: epoch_loss,
+            val_r: Some(r),
+            best_r: state.best_r,
+        });
+        epoch += 1;
+        state.next_epoch = epoch;
+        save_checkpoint(&ckpt, &varmap, &net, &adam, &state)?;
+        if state.since_best >= cfg.patience {
+            stopped_early = true;
+            break;
+        }
+    }
+    let frames: usize = data.train.iter().map(|t| t.mel_db.nrows()).sum();
+    let report = TrainReport {
+        epochs_run: state.next_epoch,
+        best_epoch: state.best_epoch,
+        best_val_r: state.best_r,
+        epoch_losses: state.epoch_losses.clone(),
+        stopped_early,
+        train_tracks: data.train.len(),
+        train_minutes: frames as f64 / 2.0 / 60.0,
+        wall_s: started.elapsed().as_secs_f64(),
+    };
+    let mut best = ArousalEstimator::load(out)?;
+    let info = serde_json::json!({
+        "data": cfg.data_description,
+        "seed": cfg.seed,
+        "train_tracks": report.train_tracks,
+        "train_minutes": (report.train_minutes * 10.0).round() / 10.0,
+        "epochs_run": report.epochs_run,
+        "best_epoch": report.best_epoch,
+        "val_pearson_r": report.best_val_r,
+        "wall_s_this_run": report.wall_s.round(),
+    });
+    best.set_training_info(info.to_string());
+    best.save(out)?;
+    Ok(report)
+}
+
+fn store_set(varmap: &VarMap, values: &HashMap<String, Tensor>) -> Result<()> {
+    let data = varmap
+        .data()
+        .lock()
+        .map_err(|_| NetError::Config("variable store poisoned".into()))?;
+    for (name, t) in values {
+        if let Some(v) = data.get(name) {
+            v.set(t)?;
+        }
+    }
+    Ok(())
+}
+
+fn save_checkpoint(
+    path: &Path,
+    varmap: &VarMap,
+    net: &EmotionNet,
+    adam: &Adam,
+    state: &CheckpointState,
+) -> Result<()> {
+    let mut tensors = model_tensors(varmap, net)?;
+    tensors.extend(adam.state()?);
+    let mut meta = HashMap::new();
+    meta.insert(store::KEY_FORMAT.to_string(), CHECKPOINT_FORMAT.to_string());
+    meta.insert(store::KEY_VERSION.to_string(), FORMAT_VERSION.to_string());
+    meta.insert(
+        "state".to_string(),
+        serde_json::to_string(state).map_err(|e| NetError::Config(e.to_string()))?,
+    );
+    Ok(store::write_atomically(
+        path,
+        &store::encode(&tensors, meta)?,
+    )?)
+}

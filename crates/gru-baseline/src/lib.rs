@@ -1,0 +1,53 @@
+//! # gru-baseline
+//!
+//! Method 1 of violin-skeleton (SPEC §8), the baseline the product's Method 2 must beat:
+//! one recurrent network maps each 30 fps, 128-band mel frame straight to the ten joints.
+//!
+//! * **Network** ([`GruBaseline`], [`Config`]): GRU 256 → dropout .3 → GRU 512 → dropout .3 →
+//!   GRU 256 → dropout .3 → dense 20, on candle. Each GRU layer is a [`FusedGru`]: the input
+//!   projection of all time steps is one matmul and the recurrence one custom op with a
+//!   hand-written backward pass, numerically equal to candle's `rnn::GRU` (tests).
+//! * **Normalisation** ([`norm`]): mel bands standardised with training statistics; joints
+//!   centred on each video's mean position and divided by its mean torso length; outputs
+//!   de-normalised into the training targets' image space (Method 2's 1280×720 camera for the
+//!   shipped weights), so the two methods' motions overlay.
+//! * **Loss** ([`Loss`]): MSE, or the per-coordinate weighted MSE with 3× weight on the right
+//!   shoulder, elbow and wrist (default).
+//! * **Data** ([`data`]): the synthetic corpus or URMP + OpenPose.
+//! * **Training** ([`train`]): truncated BPTT over windows of parallel streams that carry
+//!   their state, Adam, clipping, validation, best-weights saving, checkpoints, `--resume`.
+//! * **Inference** ([`GruBaseline::generate`]): audio → [`skeleton::Motion`] at 30 fps in
+//!   chunks that carry the GRU state; [`GruBaseline::pretrained`] embeds the default weights.
+//!
+//! ```
+//! let net = gru_baseline::GruBaseline::pretrained()?;
+//! let tone: Vec<f32> = (0..22_050).map(|i| 0.2 * (i as f32 * 0.08).sin()).collect();
+//! let motion = net.generate(&dsp_mel::Audio::new(tone, 22_050)?)?;
+//! assert_eq!(motion.len(), 31);
+//! assert_eq!(motion.image_size(), Some((1280, 720)));
+//! # Ok::<(), gru_baseline::GruError>(())
+//! ```
+
+mod config;
+pub mod data;
+mod error;
+pub mod eval;
+pub mod features;
+mod fused_gru;
+mod infer;
+mod kernels;
+mod loss;
+mod model;
+pub mod norm;
+mod recurrence;
+pub mod train;
+mod weights;
+
+pub use config::Config;
+pub use error::{GruError, Result};
+pub use fused_gru::FusedGru;
+pub use infer::CHUNK_FRAMES;
+pub use loss::{Loss, DEFAULT_RIGHT_ARM_WEIGHT};
+pub use model::{GruBaseline, GruState};
+pub use norm::{MelStats, TargetSpace, VideoNorm};
+pub use weights::{expected_shapes, StorageDtype, TrainingRecord, FORMAT_NAME, FORMAT_VERSION};

@@ -1,0 +1,446 @@
+//! Training: truncated back-propagation through time over windows of parallel streams
+//! ([`plan_epoch`]), Adam with gradient clipping, validation after every epoch, the best
+//! weights kept, a checkpoint for `--resume`, learning-rate halving on plateaus and early
+//! stopping. Every random draw comes from the seed.
+
+mod adam;
+mod checkpoint;
+mod schedule;
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use candle_core::{DType, Device, Tensor, Var};
+use candle_nn::VarBuilder;
+use corpus::rng::Rng;
+use ndarray::Array2;
+use serde::{Deserialize, Serialize};
+
+pub use adam::Adam;
+pub use checkpoint::{checkpoint_path, Progress};
+pub use schedule::{plan_epoch, Window};
+
+use crate::config::Config;
+use crate::data::Dataset;
+use crate::error::{GruError, Result};
+use crate::eval::{evaluate, Scores};
+use crate::loss::Loss;
+use crate::model::{GruBaseline, GruState};
+use crate::norm::{MelStats, TargetSpace};
+use crate::weights::{StorageDtype, TrainingRecord};
+
+/// Settings of a training run; the default trains the shipped weights.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TrainConfig {
+    /// Epochs (passes over the training sequences), counting those of a resumed run.
+    pub epochs: usize,
+    /// Parallel streams (batch rows).
+    pub batch_size: usize,
+    /// Frames per truncated-BPTT window (5 s at 150).
+    pub window_frames: usize,
+    /// Adam's initial learning rate.
+    pub learning_rate: f64,
+    /// Global gradient-norm clip.
+    pub clip_grad_norm: f64,
+    /// Halve the learning rate after this many epochs without a better validation loss.
+    pub lr_patience: usize,
+    /// Stop after this many epochs without a better validation loss (0 = never).
+    pub early_stop_patience: usize,
+    /// The loss (MSE or right-arm weighted).
+    pub loss: Loss,
+    /// Seed of initialisation, shuffling, window phases and dropout.
+    pub seed: u64,
+    /// Cap on updates per epoch (tests and quick trials); `None` = whole epochs.
+    pub max_steps_per_epoch: Option<usize>,
+}
+
+impl Default for TrainConfig {
+    fn default() -> Self {
+        Self {
+            epochs: 20,
+            batch_size: 16,
+            window_frames: 150,
+            learning_rate: 2e-3,
+            clip_grad_norm: 1.0,
+            lr_patience: 2,
+            early_stop_patience: 5,
+            loss: Loss::default(),
+            seed: 0,
+            max_steps_per_epoch: None,
+        }
+    }
+}
+
+impl TrainConfig {
+    /// Checks every value, naming the first one out of range.
+    pub fn validate(&self) -> Result<()> {
+        let bad = |m: String| Err(GruError::Config(m));
+        if self.epochs == 0 || self.epochs > 100_000 {
+            return bad(format!("epochs {} must be in 1..=100000", self.epochs));
+        }
+        if self.batch_size == 0 || self.batch_size > 4096 {
+            return bad(format!(
+                "batch size {} must be in 1..=4096",
+                self.batch_size
+            ));
+        }
+        if !(2..=10_000).contains(&self.window_frames) {
+            return bad(format!(
+                "window {} frames must be in 2..=10000",
+                self.window_frames
+            ));
+        }
+        if !(self.learning_rate.is_finite() && self.learning_rate > 0.0 && self.learning_rate < 1.0)
+        {
+            return bad(format!(
+                "learning rate {} must be in (0, 1)",
+                self.learning_rate
+            ));
+        }
+        if !(self.clip_grad_norm.is_finite() && self.clip_grad_norm > 0.0) {
+            return bad(format!(
+                "gradient clip {} must be positive",
+                self.clip_grad_norm
+            ));
+        }
+        if self.lr_patience == 0 {
+            return bad("lr_patience must be at least 1".into());
+        }
+        self.loss.validate()
+    }
+
+    /// Whether a checkpoint made with `other` can be continued with these settings (only
+    /// `epochs`, the patience values and the step cap may change).
+    fn resumable_from(&self, other: &TrainConfig) -> bool {
+        self.batch_size == other.batch_size
+            && self.window_frames == other.window_frames
+            && self.loss == other.loss
+            && self.seed == other.seed
+            && self.clip_grad_norm == other.clip_grad_norm
+    }
+}
+
+/// What to train and where to write it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TrainOptions {
+    /// The network's sizes.
+    pub config: Config,
+    /// The run's settings.
+    pub train: TrainConfig,
+    /// The best weights go here (checkpoint beside it, see [`checkpoint_path`]).
+    pub out: PathBuf,
+    /// Storage of the best weights.
+    pub dtype: StorageDtype,
+    /// Continue from the checkpoint beside `out`.
+    pub resume: bool,
+    /// The command line, for the training record.
+    pub command: String,
+    /// The data folder, for the training record.
+    pub data: String,
+}
+
+/// One epoch's results.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct EpochReport {
+    /// Epoch number, from 1.
+    pub epoch: usize,
+    /// Mean training loss over the epoch's updates (dropout on).
+    pub train_loss: f64,
+    /// Validation loss (the training loss's weighting), when there is a validation set.
+    pub val_loss: Option<f64>,
+    /// Validation plain MSE.
+    pub val_mse: Option<f64>,
+    /// Validation mean |error| per coordinate, pixels.
+    pub val_l1_px: Option<f64>,
+    /// Learning rate during the epoch.
+    pub learning_rate: f64,
+    /// Wall time of the epoch, seconds.
+    pub seconds: f64,
+    /// Whether this epoch's weights became the best and were written.
+    pub improved: bool,
+}
+
+/// Progress reports of [`train`].
+#[derive(Debug, Clone, PartialEq)]
+pub enum TrainEvent {
+    /// Training starts (or resumes after `first_epoch - 1` epochs).
+    Started {
+        /// First epoch to run.
+        first_epoch: usize,
+        /// Last epoch.
+        epochs: usize,
+        /// Updates per epoch.
+        steps_per_epoch: usize,
+        /// Trainable parameters.
+        parameters: usize,
+        /// Training frames.
+        train_frames: usize,
+    },
+    /// One update done.
+    Step {
+        /// Epoch, from 1.
+        epoch: usize,
+        /// Update within the epoch, from 1.
+        step: usize,
+        /// Updates in this epoch.
+        steps: usize,
+        /// This update's loss.
+        loss: f64,
+    },
+    /// An epoch done.
+    Epoch(EpochReport),
+}
+
+/// The outcome of [`train`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct TrainSummary {
+    /// Everything saved in the checkpoint (history, best epoch, wall time).
+    pub progress: Progress,
+    /// The record written into the best weights file.
+    pub record: TrainingRecord,
+    /// Whether early stopping ended the run.
+    pub stopped_early: bool,
+}
+
+/// Trains Method 1 on `data` as `opts` says, writing the best weights to `opts.out` and a
+/// checkpoint beside it after every epoch; `progress` sees every update and epoch.
+pub fn train(
+    data: &Dataset,
+    opts: &TrainOptions,
+    progress: &mut dyn FnMut(&TrainEvent),
+) -> Result<TrainSummary> {
+    let tcfg = &opts.train;
+    opts.config.validate()?;
+    tcfg.validate()?;
+    if data.train.is_empty() {
+        return Err(GruError::Empty("training sequences".into()));
+    }
+    let ckpt_path = checkpoint_path(&opts.out);
+    let vars = GruBaseline::init_vars(&opts.config, tcfg.seed)?;
+    let mut net = GruBaseline::new(
+        &opts.config,
+        VarBuilder::from_varmap(&vars, DType::F32, &Device::Cpu),
+    )?;
+    let named: Vec<(String, Var)> = vars
+        .data()
+        .lock()
+        .map_err(|_| GruError::Config("the variable map is poisoned".into()))?
+        .iter()
+        .map(|(k, v)| (k.clone(), v.clone()))
+        .collect();
+    let mut adam = Adam::new(named.clone(), tcfg.learning_rate)?;
+    let mut state = Progress {
+        epochs_done: 0,
+        adam_steps: 0,
+        learning_rate: tcfg.learning_rate,
+        best_loss: f64::INFINITY,
+        best_epoch: 0,
+        epochs_since_best: 0,
+        wall_time_s: 0.0,
+        history: Vec::new(),
+    };
+    if opts.resume {
+        let ck = checkpoint::load(&ckpt_path)?;
+        if ck.config != opts.config || !tcfg.resumable_from(&ck.train) {
+            return Err(GruError::Weights {
+                path: ckpt_path,
+                reason: "the checkpoint was made with another network, loss, seed, batch or window; resume with the same settings or drop --resume".into(),
+            });
+        }
+        for (name, var) in &named {
+            let t = ck
+                .tensors
+                .get(&format!("param.{name}"))
+                .ok_or_else(|| GruError::Weights {
+                    path: ckpt_path.clone(),
+                    reason: format!("checkpoint lacks parameter `{name}`"),
+                })?;
+            var.set(t)?;
+        }
+        adam.restore(
+            &|k| ck.tensors.get(&format!("adam.{k}")).cloned(),
+            ck.progress.adam_steps,
+        )?;
+        net.set_normalization(ck.mel_stats, ck.target)?;
+        state = ck.progress;
+        adam.learning_rate = state.learning_rate;
+    } else {
+        let mel_stats = MelStats::of(data.train.iter().map(|s| s.mel_db.view()))?;
+        let videos: Vec<_> = data.train.iter().map(|s| (s.video, s.image_size)).collect();
+        net.set_normalization(mel_stats, TargetSpace::of(&videos)?)?;
+        // Start from the mean pose: the head's bias is the training targets' mean, so the
+        // first updates learn motion instead of where the body stands.
+        if let Some((_, bias)) = named.iter().find(|(n, _)| n == "head.bias") {
+            bias.set(&Tensor::from_vec(
+                mean_pose(data),
+                opts.config.outputs(),
+                &Device::Cpu,
+            )?)?;
+        }
+    }
+
+    let inputs: Vec<Array2<f32>> = data
+        .train
+        .iter()
+        .map(|s| net.mel_stats().normalize(s.mel_db.view()))
+        .collect();
+    let lengths: Vec<usize> = data.train.iter().map(|s| s.len()).collect();
+    let steps_of = |epoch: usize| {
+        let mut rng = Rng::new(tcfg.seed).fork(epoch as u64);
+        let _ = rng.next_u64();
+        let n = plan_epoch(&lengths, tcfg.window_frames, tcfg.batch_size, &mut rng).len();
+        tcfg.max_steps_per_epoch.map_or(n, |m| n.min(m))
+    };
+    progress(&TrainEvent::Started {
+        first_epoch: state.epochs_done + 1,
+        epochs: tcfg.epochs,
+        steps_per_epoch: steps_of(state.epochs_done + 1),
+        parameters: opts.config.parameter_count(),
+        train_frames: data.train_frames(),
+    });
+
+    let mut stopped_early = false;
+    let mut record = TrainingRecord::default();
+    for epoch in state.epochs_done + 1..=tcfg.epochs {
+        let t0 = Instant::now();
+        let mut rng = Rng::new(tcfg.seed).fork(epoch as u64);
+        net.set_dropout_seed(rng.next_u64());
+        let mut plan = plan_epoch(&lengths, tcfg.window_frames, tcfg.batch_size, &mut rng);
+        if let Some(m) = tcfg.max_steps_per_epoch {
+            plan.truncate(m);
+        }
+        let steps = plan.len();
+        let mut carried: Option<GruState> = None;
+        let mut loss_sum = 0.0;
+        for (s, row) in plan.iter().enumerate() {
+            let (x, y, mask) = assemble(row, &inputs, &data.train, opts.config.outputs())?;
+            let keep: Vec<bool> = row.iter().map(|w| w.is_some_and(|w| !w.first)).collect();
+            let start = match &carried {
+                Some(c) => Some(c.reset_rows(&keep)?),
+                None => None,
+            };
+            let (pred, next) = net.forward_state(&x, start.as_ref(), true)?;
+            let loss = tcfg.loss.compute(&pred, &y, Some(&mask))?;
+            let value = f64::from(loss.to_scalar::<f32>()?);
+            adam.step(&loss.backward()?, Some(tcfg.clip_grad_norm))?;
+            carried = Some(next);
+            loss_sum += value;
+            progress(&TrainEvent::Step {
+                epoch,
+                step: s + 1,
+                steps,
+                loss: value,
+            });
+        }
+        let val: Option<Scores> = if data.val.is_empty() {
+            None
+        } else {
+            Some(evaluate(&net, &data.val, &tcfg.loss)?)
+        };
+        let train_loss = loss_sum / steps.max(1) as f64;
+        let criterion = val.map_or(train_loss, |v| v.loss);
+        let improved = criterion < state.best_loss;
+        let lr_used = adam.learning_rate;
+        state.epochs_done = epoch;
+        state.adam_steps = adam.steps_taken();
+        state.wall_time_s += t0.elapsed().as_secs_f64();
+        if improved {
+            state.best_loss = criterion;
+            state.best_epoch = epoch;
+            state.epochs_since_best = 0;
+        } else {
+            state.epochs_since_best += 1;
+            if state.epochs_since_best % tcfg.lr_patience == 0 {
+                adam.learning_rate = (adam.learning_rate * 0.5).max(1e-5);
+            }
+        }
+        state.learning_rate = adam.learning_rate;
+        let report = EpochReport {
+            epoch,
+            train_loss,
+            val_loss: val.map(|v| v.loss),
+            val_mse: val.map(|v| v.mse),
+            val_l1_px: val.map(|v| v.l1_px),
+            learning_rate: lr_used,
+            seconds: t0.elapsed().as_secs_f64(),
+            improved,
+        };
+        state.history.push(report.clone());
+        record = TrainingRecord {
+            command: opts.command.clone(),
+            data: opts.data.clone(),
+            seed: tcfg.seed,
+            epochs: epoch,
+            best_epoch: state.best_epoch,
+            val_loss: state.best_loss,
+            weighted_loss: tcfg.loss.is_weighted(),
+            train_frames: data.train_frames(),
+            wall_time_s: state.wall_time_s,
+        };
+        if improved {
+            net.save(&opts.out, opts.dtype, Some(&record))?;
+        }
+        checkpoint::save(&ckpt_path, &net, &adam, tcfg, &state)?;
+        progress(&TrainEvent::Epoch(report));
+        if tcfg.early_stop_patience > 0 && state.epochs_since_best >= tcfg.early_stop_patience {
+            stopped_early = true;
+            break;
+        }
+    }
+    Ok(TrainSummary {
+        progress: state,
+        record,
+        stopped_early,
+    })
+}
+
+/// Mean of every output coordinate over all training frames.
+fn mean_pose(data: &Dataset) -> Vec<f32> {
+    let outputs = data.train.first().map_or(0, |s| s.joints.ncols());
+    let mut sum = vec![0f64; outputs];
+    let mut n = 0usize;
+    for s in &data.train {
+        for row in s.joints.rows() {
+            for (a, v) in sum.iter_mut().zip(row.iter()) {
+                *a += f64::from(*v);
+            }
+        }
+        n += s.len();
+    }
+    sum.iter().map(|v| (v / n.max(1) as f64) as f32).collect()
+}
+
+/// The batch of one step: inputs `(B, T, bands)`, targets `(B, T, outputs)`, mask `(B, T)`,
+/// `T` the longest window of the step; shorter windows and finished streams are zero-padded
+/// and masked out.
+fn assemble(
+    row: &[Option<Window>],
+    inputs: &[Array2<f32>],
+    seqs: &[crate::data::Sequence],
+    outputs: usize,
+) -> Result<(Tensor, Tensor, Tensor)> {
+    let batch = row.len();
+    let steps = row.iter().flatten().map(|w| w.len).max().unwrap_or(1);
+    let bands = inputs.first().map_or(0, |a| a.ncols());
+    let mut x = vec![0f32; batch * steps * bands];
+    let mut y = vec![0f32; batch * steps * outputs];
+    let mut m = vec![0f32; batch * steps];
+    for (b, w) in row.iter().enumerate() {
+        let Some(w) = w else { continue };
+        let (mel, joints) = (&inputs[w.seq], &seqs[w.seq].joints);
+        for t in 0..w.len {
+            let src = mel.row(w.start + t);
+            let dst = &mut x[(b * steps + t) * bands..][..bands];
+            dst.iter_mut().zip(src.iter()).for_each(|(d, s)| *d = *s);
+            let src = joints.row(w.start + t);
+            let dst = &mut y[(b * steps + t) * outputs..][..outputs];
+            dst.iter_mut().zip(src.iter()).for_each(|(d, s)| *d = *s);
+            m[b * steps + t] = 1.0;
+        }
+    }
+    Ok((
+        Tensor::from_vec(x, (batch, steps, bands), &Device::Cpu)?,
+        Tensor::from_vec(y, (batch, steps, outputs), &Device::Cpu)?,
+        Tensor::from_vec(m, (batch, steps), &Device::Cpu)?,
+    ))
+}
