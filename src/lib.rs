@@ -1,2 +1,50 @@
-//! violin-skeleton: turn a solo violin recording into a violinist skeleton animation.
+//! # violin-skeleton
+//!
+//! Turn a solo violin recording (or a MIDI file) into a plausible violinist skeleton
+//! animation at 30 fps: bow strokes that reverse on the real bow changes, a left hand that
+//! shifts to where the notes are played, and a body that leans and sways with the music's
+//! energy and bars.
+//!
+//! This crate is the facade: it re-exports the workspace's crates and offers the few entry
+//! points most users need — [`Pipeline`] with [`Pipeline::analyze`] (→ [`Analysis`]),
+//! [`Pipeline::performance`] (→ [`Performance`]), [`Pipeline::generate`] (→ [`Motion`]) and
+//! [`Pipeline::generate_midi`].
+//!
+//! ```no_run
+//! use violin_skeleton::{load_audio, MotionFormat, Pipeline};
+//! let audio = load_audio("take1.wav")?;
+//! let pipeline = Pipeline::default();
+//! let analysis = pipeline.analyze(&audio)?;
+//! println!("{} notes, {} bow changes, {:.0} bpm", analysis.notes.len(),
+//!          analysis.bow_changes_s.len(), analysis.tempo_bpm);
+//! let motion = pipeline.generate_from_analysis(&analysis)?;
+//! motion.write("take1_motion.json", MotionFormat::Json)?;
+//! # Ok::<(), violin_skeleton::Error>(())
+//! ```
+
+mod analysis;
+mod error;
+pub mod networks;
+mod pipeline;
+
+pub use analysis::{Analysis, AnalyzedNote, ArousalSeries, F0Track};
+pub use error::{Error, Result};
+pub use pipeline::{Method, Pipeline, PipelineBuilder, PlannerKind};
+
+pub use dsp_mel::{load_audio, load_audio_at, Audio};
+pub use motion_synth::{Camera, Performance, SynthConfig};
+pub use skeleton::formats::MotionFormat;
+pub use skeleton::Motion;
+
+pub use beat_track;
+pub use bowing_net;
+pub use corpus;
 pub use dsp_mel;
+pub use emotion_net;
+pub use fingering;
+pub use gru_baseline;
+pub use motion_synth;
+pub use pitch_track;
+pub use pose_preproc;
+pub use skeleton;
+pub use skeleton_render;

@@ -13,6 +13,36 @@ pub enum CliError {
     /// Loading or analysing audio failed.
     #[error(transparent)]
     Dsp(#[from] violin_skeleton::dsp_mel::DspError),
+    /// Making the corpus failed.
+    #[error(transparent)]
+    Corpus(#[from] violin_skeleton::corpus::CorpusError),
+    /// Reading or cleaning an OpenPose directory failed.
+    #[error(transparent)]
+    PosePreproc(#[from] violin_skeleton::pose_preproc::PosePreprocError),
+    /// Reading or writing a motion file failed.
+    #[error(transparent)]
+    Skeleton(#[from] violin_skeleton::skeleton::SkeletonError),
+    /// Pitch tracking or note segmentation failed.
+    #[error(transparent)]
+    Pitch(#[from] violin_skeleton::pitch_track::PitchError),
+    /// Onset, tempo or beat tracking failed.
+    #[error(transparent)]
+    Beat(#[from] violin_skeleton::beat_track::BeatError),
+    /// Drawing a preview failed.
+    #[error(transparent)]
+    Render(#[from] violin_skeleton::skeleton_render::RenderError),
+    /// Training or running the bowing network failed.
+    #[error(transparent)]
+    BowingNet(#[from] violin_skeleton::bowing_net::NetError),
+    /// Training or running the Method 1 GRU failed.
+    #[error(transparent)]
+    GruBaseline(#[from] violin_skeleton::gru_baseline::GruError),
+    /// The pipeline failed.
+    #[error(transparent)]
+    Pipeline(#[from] violin_skeleton::Error),
+    /// Training or running the emotion network failed.
+    #[error(transparent)]
+    EmotionNet(#[from] violin_skeleton::emotion_net::EmotionError),
     /// An output could not be written.
     #[error("{path}: cannot write output: {reason}")]
     Output {

@@ -3,15 +3,27 @@
 //! Exit codes: 0 success; 1 the input, output or machine failed (one line on stderr says
 //! which file, what is wrong and what to do); 2 the command line is wrong.
 
+mod analyze;
+mod corpus_cmd;
+mod demo;
 mod error;
 mod features;
+mod generate;
 mod output;
+mod pose_labels;
+mod render;
+mod train;
+mod train_gru;
 
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
 use error::CliError;
+
+/// mimalloc cuts the page faults of the networks' many short-lived tensors.
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 /// Turn a solo violin recording into a violinist skeleton animation (30 fps).
 #[derive(Debug, Parser)]
@@ -29,8 +41,22 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
+    /// Run the whole pipeline on the shipped demo clip and write ./demo-out/ (motion, OpenPose, BVH, previews).
+    Demo(demo::DemoArgs),
+    /// A recording (wav/flac/mp3/ogg) or MIDI file in, violinist motion out (json, openpose, csv, npy, bvh).
+    Generate(generate::GenerateArgs),
     /// Write the networks' mel inputs (mel30: 30 fps × 128, mel2: 2 fps × 64) as float32 .npy.
     Features(features::FeaturesArgs),
+    /// Make a synthetic violin corpus with exact labels (audio, notes, bow changes, beats, arousal, motion).
+    Corpus(corpus_cmd::CorpusArgs),
+    /// OpenPose JSON directory → cleaned 10-joint skeleton + bow-change frames (labels.json).
+    PoseLabels(pose_labels::PoseLabelsArgs),
+    /// Analyse a recording: f0, notes with fingering, beats, downbeats and tempo (analysis.json).
+    Analyze(analyze::AnalyzeArgs),
+    /// Draw a motion as an animated GIF, PNG frames or an HTML player with the audio.
+    Render(render::RenderArgs),
+    /// Train the bow-change CNN, the arousal CRNN or the Method 1 GRU (corpus, URMP or DEAM folder).
+    Train(train::TrainArgs),
 }
 
 /// Prints progress and summaries on stderr unless `--quiet`.
@@ -39,6 +65,22 @@ pub struct Reporter {
 }
 
 impl Reporter {
+    /// A progress bar on stderr for `total` steps (hidden with `--quiet` or when stderr is
+    /// not a terminal).
+    pub fn progress(&self, total: u64, what: &str) -> indicatif::ProgressBar {
+        if self.quiet {
+            return indicatif::ProgressBar::hidden();
+        }
+        let bar = indicatif::ProgressBar::new(total);
+        if let Ok(style) = indicatif::ProgressStyle::with_template(
+            "{msg} [{bar:30}] {pos}/{len} ({elapsed}, eta {eta})",
+        ) {
+            bar.set_style(style.progress_chars("=> "));
+        }
+        bar.set_message(what.to_string());
+        bar
+    }
+
     /// A summary line.
     pub fn line(&self, text: &str) {
         if !self.quiet {
@@ -51,7 +93,14 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let report = Reporter { quiet: cli.quiet };
     let result: Result<(), CliError> = match &cli.command {
+        Command::Demo(args) => demo::run(args, &report),
+        Command::Generate(args) => generate::run(args, &report),
         Command::Features(args) => features::run(args, &report),
+        Command::Corpus(args) => corpus_cmd::run(args, &report),
+        Command::PoseLabels(args) => pose_labels::run(args, &report),
+        Command::Analyze(args) => analyze::run(args, &report),
+        Command::Render(args) => render::run(args, &report),
+        Command::Train(args) => train::run(args, &report),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

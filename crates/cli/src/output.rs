@@ -38,6 +38,14 @@ pub fn write_atomically(
         write(&mut w).map_err(&unwritable)?;
         w.flush().map_err(|e| unwritable(e.to_string()))?;
     }
+    #[cfg(unix)]
+    {
+        // tempfile creates 0600 files; an output is an ordinary file.
+        use std::os::unix::fs::PermissionsExt;
+        let _ = tmp
+            .as_file()
+            .set_permissions(std::fs::Permissions::from_mode(0o644));
+    }
     tmp.persist(path)
         .map_err(|e| unwritable(format!("cannot rename into place ({})", e.error)))?;
     Ok(())

@@ -1,0 +1,268 @@
+//! `violin-skeleton generate`: a recording (or MIDI file) in, motion out.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use clap::{Args, ValueEnum};
+use violin_skeleton::skeleton::formats::OpenPoseOptions;
+use violin_skeleton::skeleton::PoseLayout;
+use violin_skeleton::skeleton_render::{
+    audio_mime, write_gif_file, write_html_player_file, RenderConfig,
+};
+use violin_skeleton::{load_audio, Method, Motion, MotionFormat, Pipeline, PlannerKind};
+
+use crate::error::CliError;
+use crate::Reporter;
+
+/// Motion file formats.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum OutFormat {
+    /// Motion JSON (2-D, 3-D and instrument tracks).
+    Json,
+    /// A folder of OpenPose `*_keypoints.json` files (BODY_25), for pose-conditioned generators.
+    Openpose,
+    /// One row per frame, `joint_x, joint_y` columns.
+    Csv,
+    /// float32 (frames, 20).
+    Npy,
+    /// BVH of the 3-D rig (Blender: File → Import → Motion Capture (.bvh)).
+    Bvh,
+}
+
+impl OutFormat {
+    /// The format a path's extension names (a path without one is an OpenPose folder).
+    pub fn from_path(path: &Path) -> Option<Self> {
+        match path
+            .extension()
+            .map(|e| e.to_string_lossy().to_ascii_lowercase())
+        {
+            None => Some(OutFormat::Openpose),
+            Some(e) => match e.as_str() {
+                "json" => Some(OutFormat::Json),
+                "csv" => Some(OutFormat::Csv),
+                "npy" => Some(OutFormat::Npy),
+                "bvh" => Some(OutFormat::Bvh),
+                _ => None,
+            },
+        }
+    }
+}
+
+/// Motion method.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum MethodArg {
+    /// Method 2: analysis → performance → rules (default).
+    Rules,
+    /// Method 1: the GRU baseline.
+    Gru,
+}
+
+/// Fingering planner.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum PlannerArg {
+    /// The original greedy rule.
+    Greedy,
+    /// Viterbi over all places (default).
+    Optimal,
+}
+
+/// Arguments of `generate`.
+#[derive(Debug, Args)]
+#[command(
+    after_help = "Examples:\n  violin-skeleton generate take1.wav -o take1.json\n  violin-skeleton generate take1.flac -o take1_openpose --format openpose --preview take1.html\n  violin-skeleton generate piece.mid -o piece.bvh\n  violin-skeleton generate take1.wav -o m1.json --method gru"
+)]
+pub struct GenerateArgs {
+    /// Audio (wav, flac, mp3, ogg) or MIDI (.mid, .midi).
+    pub input: PathBuf,
+    /// Output file, or folder for `--format openpose`.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Output format (default: from the output's extension; none → openpose).
+    #[arg(long, value_enum)]
+    pub format: Option<OutFormat>,
+    /// Motion method.
+    #[arg(long, value_enum, default_value_t = MethodArg::Rules)]
+    pub method: MethodArg,
+    /// Fingering planner.
+    #[arg(long, value_enum, default_value_t = PlannerArg::Optimal)]
+    pub planner: PlannerArg,
+    /// Also write a preview: `.gif` or `.html` (player with the audio embedded).
+    #[arg(long)]
+    pub preview: Option<PathBuf>,
+    /// Also write the analysis (f0, notes, bow changes, beats, arousal) as JSON.
+    #[arg(long)]
+    pub analysis_out: Option<PathBuf>,
+    /// Bow-change CNN weights from `train bowing` (default: embedded).
+    #[arg(long)]
+    pub bowing_weights: Option<PathBuf>,
+    /// Arousal CRNN weights from `train emotion` (default: embedded).
+    #[arg(long)]
+    pub emotion_weights: Option<PathBuf>,
+    /// GRU weights from `train gru` (default: embedded).
+    #[arg(long)]
+    pub gru_weights: Option<PathBuf>,
+}
+
+fn is_midi(path: &Path) -> bool {
+    path.extension().is_some_and(|e| {
+        matches!(
+            e.to_string_lossy().to_ascii_lowercase().as_str(),
+            "mid" | "midi"
+        )
+    })
+}
+
+/// Writes `motion` to `path` in `format`.
+pub fn write_motion(motion: &Motion, path: &Path, format: OutFormat) -> Result<(), CliError> {
+    match format {
+        OutFormat::Json => motion.write(path, MotionFormat::Json)?,
+        OutFormat::Csv => motion.write(path, MotionFormat::Csv)?,
+        OutFormat::Npy => motion.write(path, MotionFormat::Npy)?,
+        OutFormat::Openpose => motion.write_openpose(
+            path,
+            &OpenPoseOptions {
+                layout: PoseLayout::Body25,
+                name_prefix: path
+                    .file_name()
+                    .map_or_else(|| "motion".into(), |n| n.to_string_lossy().to_string()),
+            },
+        )?,
+        OutFormat::Bvh => violin_skeleton::motion_synth::bvh::write_bvh_file(motion, path)
+            .map_err(violin_skeleton::Error::from)?,
+    }
+    Ok(())
+}
+
+/// Writes a `.gif` or `.html` preview (the HTML embeds `audio` when given).
+pub fn write_preview(motion: &Motion, path: &Path, audio: Option<&Path>) -> Result<(), CliError> {
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase());
+    match ext.as_deref() {
+        Some("gif") => write_gif_file(motion, path, &RenderConfig::default())?,
+        Some("html") | Some("htm") => {
+            let bytes = match audio {
+                Some(a) => Some(std::fs::read(a).map_err(|e| CliError::Output {
+                    path: a.to_path_buf(),
+                    reason: format!("cannot read the audio to embed ({e})"),
+                })?),
+                None => None,
+            };
+            let mime = audio.and_then(audio_mime).unwrap_or("audio/wav");
+            write_html_player_file(motion, bytes.as_deref().map(|b| (b, mime)), path)?;
+        }
+        _ => {
+            return Err(CliError::Usage(format!(
+                "--preview {}: use a .gif or .html file name",
+                path.display()
+            )))
+        }
+    }
+    Ok(())
+}
+
+/// Runs `generate`.
+pub fn run(args: &GenerateArgs, report: &Reporter) -> Result<(), CliError> {
+    let format = match args.format.or_else(|| OutFormat::from_path(&args.output)) {
+        Some(f) => f,
+        None => {
+            return Err(CliError::Usage(format!(
+                "-o {}: cannot tell the format from the extension; use .json, .csv, .npy, .bvh, a folder name, or --format",
+                args.output.display()
+            )))
+        }
+    };
+    let mut builder = Pipeline::builder()
+        .method(match args.method {
+            MethodArg::Rules => Method::Rules,
+            MethodArg::Gru => Method::Gru,
+        })
+        .planner(match args.planner {
+            PlannerArg::Greedy => PlannerKind::Greedy,
+            PlannerArg::Optimal => PlannerKind::Optimal,
+        });
+    if let Some(p) = &args.bowing_weights {
+        builder = builder.bowing_weights(p);
+    }
+    if let Some(p) = &args.emotion_weights {
+        builder = builder.emotion_weights(p);
+    }
+    if let Some(p) = &args.gru_weights {
+        builder = builder.gru_weights(p);
+    }
+    let pipeline = builder.build();
+    let t0 = Instant::now();
+    let bar = report.progress(3, "generate");
+    let (motion, summary) = if is_midi(&args.input) {
+        let perf = pipeline
+            .performance_from_midi(&args.input)
+            .map_err(|e| with_input(e, &args.input))?;
+        bar.inc(2);
+        let motion = violin_skeleton::motion_synth::synthesize(&perf, pipeline.synth_config())
+            .map_err(violin_skeleton::Error::from)?;
+        let summary = format!(
+            "{} notes, {} bow changes (MIDI)",
+            perf.notes().len(),
+            perf.bow_changes_s().len()
+        );
+        (motion, summary)
+    } else {
+        let audio = load_audio(&args.input)?;
+        bar.inc(1);
+        match args.method {
+            MethodArg::Rules => {
+                let analysis = pipeline
+                    .analyze(&audio)
+                    .map_err(|e| with_input(e, &args.input))?;
+                bar.inc(1);
+                if let Some(p) = &args.analysis_out {
+                    crate::output::write_atomically(p, |w| {
+                        serde_json::to_writer(w, &analysis).map_err(|e| e.to_string())
+                    })?;
+                }
+                let motion = pipeline
+                    .generate_from_analysis(&analysis)
+                    .map_err(|e| with_input(e, &args.input))?;
+                let summary = format!(
+                    "{} notes, {} bow changes, {:.0} bpm",
+                    analysis.notes.len(),
+                    analysis.bow_changes_s.len(),
+                    analysis.tempo_bpm
+                );
+                (motion, summary)
+            }
+            MethodArg::Gru => {
+                let motion = pipeline.generate(&audio)?;
+                bar.inc(1);
+                (motion, "Method 1 (GRU)".to_string())
+            }
+        }
+    };
+    write_motion(&motion, &args.output, format)?;
+    if let Some(p) = &args.preview {
+        let audio = (!is_midi(&args.input)).then_some(args.input.as_path());
+        write_preview(&motion, p, audio)?;
+    }
+    bar.inc(1);
+    bar.finish_and_clear();
+    report.line(&format!(
+        "{}: {} → {} frames ({:.1} s at 30 fps, {format:?}) written to {} in {:.2} s",
+        args.input.display(),
+        summary,
+        motion.len(),
+        motion.duration_s(),
+        args.output.display(),
+        t0.elapsed().as_secs_f64()
+    ));
+    Ok(())
+}
+
+/// Names the input file in a "no notes" error.
+fn with_input(e: violin_skeleton::Error, input: &Path) -> CliError {
+    match e {
+        violin_skeleton::Error::NoNotes(_) => {
+            CliError::Pipeline(violin_skeleton::Error::NoNotes(input.display().to_string()))
+        }
+        other => CliError::Pipeline(other),
+    }
+}

@@ -1,0 +1,172 @@
+//! `violin-skeleton render`: a motion file → animated GIF, HTML player (with the audio) or a
+//! folder of PNG frames.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use clap::Args;
+use violin_skeleton::dsp_mel::load_audio;
+use violin_skeleton::skeleton::{Motion, MotionFormat};
+use violin_skeleton::skeleton_render::{
+    audio_mime, write_gif_with_progress, write_html_player, write_png_frames, RenderConfig,
+};
+
+use crate::error::CliError;
+use crate::output::write_atomically;
+use crate::Reporter;
+
+/// Arguments of `render`.
+#[derive(Debug, Args)]
+#[command(
+    after_help = "The output's extension chooses the kind: .gif (animated GIF), .html (one self-contained page with a canvas, the motion and the audio), anything else a folder of PNG frames (created if missing).\n\nExamples:\n  violin-skeleton render motion.json -o preview.gif\n  violin-skeleton render motion.json --audio take1.wav -o player.html\n  violin-skeleton render motion.json --width 1280 --height 720 --fps 30 -o frames/"
+)]
+pub struct RenderArgs {
+    /// Motion file (motion .json; .csv, .npy or an OpenPose folder also work).
+    pub input: PathBuf,
+    /// Audio to embed in the HTML player (wav, mp3, ogg, flac).
+    #[arg(long)]
+    pub audio: Option<PathBuf>,
+    /// Output: P.gif, P.html or a folder for PNG frames.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Picture width in pixels (GIF, PNG).
+    #[arg(long, default_value_t = 480)]
+    pub width: u32,
+    /// Picture height in pixels (GIF, PNG).
+    #[arg(long, default_value_t = 270)]
+    pub height: u32,
+    /// Pictures per second (GIF, PNG; at most the motion's rate).
+    #[arg(long, default_value_t = 15.0)]
+    pub fps: f64,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Kind {
+    Gif,
+    Html,
+    PngFrames,
+}
+
+fn output_kind(path: &Path) -> Result<Kind, CliError> {
+    if path.is_dir() {
+        return Ok(Kind::PngFrames);
+    }
+    match path
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase())
+    {
+        None => Ok(Kind::PngFrames),
+        Some(e) if e == "gif" => Ok(Kind::Gif),
+        Some(e) if e == "html" || e == "htm" => Ok(Kind::Html),
+        Some(e) => Err(CliError::Usage(format!(
+            "-o {}: unknown output kind .{e}; use P.gif, P.html or a folder name for PNG frames",
+            path.display()
+        ))),
+    }
+}
+
+/// Reads the audio to embed, checking that it decodes; returns bytes, MIME type and length.
+fn read_audio(path: &Path) -> Result<(Vec<u8>, &'static str, f64), CliError> {
+    let mime = audio_mime(path).ok_or_else(|| {
+        CliError::Usage(format!(
+            "--audio {}: unknown audio type; use a .wav, .mp3, .ogg or .flac file",
+            path.display()
+        ))
+    })?;
+    let duration_s = load_audio(path)?.duration_s();
+    let bytes = std::fs::read(path).map_err(|e| {
+        CliError::Usage(format!("--audio {}: cannot read it ({e})", path.display()))
+    })?;
+    Ok((bytes, mime, duration_s))
+}
+
+/// Runs `render`.
+pub fn run(args: &RenderArgs, report: &Reporter) -> Result<(), CliError> {
+    let t0 = Instant::now();
+    let kind = output_kind(&args.output)?;
+    if args.audio.is_some() && kind != Kind::Html {
+        return Err(CliError::Usage(
+            "--audio is embedded only in an HTML player; give -o P.html".into(),
+        ));
+    }
+    let format = MotionFormat::from_path(&args.input)?;
+    let motion = Motion::read(&args.input, format)?;
+    let cfg = RenderConfig {
+        width: args.width,
+        height: args.height,
+        fps_out: args.fps,
+        ..RenderConfig::default()
+    };
+    cfg.validate()?;
+    let pictures = cfg.frame_indices(&motion).len();
+    let what = match kind {
+        Kind::Gif => {
+            let bar = report.progress(pictures as u64, "GIF");
+            write_atomically(&args.output, |w| {
+                write_gif_with_progress(&motion, w, &cfg, |done, _| bar.set_position(done as u64))
+                    .map_err(|e| e.to_string())
+            })?;
+            bar.finish_and_clear();
+            format!(
+                "{pictures} pictures {}×{} at {} fps",
+                cfg.width,
+                cfg.height,
+                cfg.effective_fps(&motion)
+            )
+        }
+        Kind::PngFrames => {
+            let bar = report.progress(pictures as u64, "PNG frames");
+            let n = write_png_frames(&motion, &args.output, &cfg, |done, _| {
+                bar.set_position(done as u64)
+            })?;
+            bar.finish_and_clear();
+            format!("{n} PNG frames {}×{}", cfg.width, cfg.height)
+        }
+        Kind::Html => {
+            let audio = args.audio.as_deref().map(read_audio).transpose()?;
+            if let Some((_, _, audio_s)) = &audio {
+                if (audio_s - motion.duration_s()).abs() > 1.0 {
+                    report.line(&format!(
+                        "warning: the audio lasts {audio_s:.1} s but the motion {:.1} s; they will drift apart",
+                        motion.duration_s()
+                    ));
+                }
+            }
+            write_atomically(&args.output, |w| {
+                let embedded = audio.as_ref().map(|(b, m, _)| (b.as_slice(), *m));
+                write_html_player(&motion, embedded, w).map_err(|e| e.to_string())
+            })?;
+            match &args.audio {
+                Some(a) => format!("HTML player with {}", a.display()),
+                None => "HTML player (no audio)".to_string(),
+            }
+        }
+    };
+    let size_kib = std::fs::metadata(&args.output)
+        .ok()
+        .filter(|m| m.is_file())
+        .map(|m| format!(", {} KiB", m.len() / 1024))
+        .unwrap_or_default();
+    report.line(&format!(
+        "{}: {} frames at {} fps → {} ({what}{size_kib}) in {:.0} ms",
+        args.input.display(),
+        motion.len(),
+        motion.fps(),
+        args.output.display(),
+        t0.elapsed().as_secs_f64() * 1e3
+    ));
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn output_kind_follows_the_extension() {
+        assert_eq!(output_kind(Path::new("a.GIF")).unwrap(), Kind::Gif);
+        assert_eq!(output_kind(Path::new("a.htm")).unwrap(), Kind::Html);
+        assert_eq!(output_kind(Path::new("frames")).unwrap(), Kind::PngFrames);
+        assert!(output_kind(Path::new("a.mp4")).is_err());
+    }
+}

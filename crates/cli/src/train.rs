@@ -1,0 +1,280 @@
+//! `violin-skeleton train bowing|emotion`: train a network on a corpus, URMP or DEAM folder.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use clap::{Args, ValueEnum};
+use violin_skeleton::bowing_net::{self, metrics::Evaluation, TrainConfig};
+use violin_skeleton::emotion_net;
+
+use crate::error::CliError;
+use crate::Reporter;
+
+/// Which network to train.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Network {
+    /// The bow-change CNN (corpus or URMP layout).
+    Bowing,
+    /// The arousal CRNN (corpus or DEAM layout).
+    Emotion,
+    /// Method 1: the GRU from mel frames straight to the joints (corpus or URMP layout).
+    Gru,
+}
+
+/// Arguments of `train`.
+#[derive(Debug, Args)]
+#[command(
+    after_help = "Examples:\n  violin-skeleton train bowing --data corpus --out bowing.safetensors\n  violin-skeleton train emotion --data DEAM --out emotion.safetensors --epochs 40 --seed 2\n  violin-skeleton train gru --data corpus --out gru.safetensors --unweighted --epochs 20\n  violin-skeleton train bowing --data corpus --out bowing.safetensors --resume\n\nThe data folder's layout is recognised: a corpus (manifest.json, from `violin-skeleton corpus`),\nURMP (AuSep_K_vn_NAME.wav + openpose_K_vn_NAME/ per track; bowing only) or DEAM\n(annotations/… + MEMD_audio/; emotion only). The best weights so far are kept in --out and a\ncheckpoint beside it (NAME.ckpt.safetensors) after every epoch; --resume continues from it.\nAt the end the test split is evaluated and summarised."
+)]
+pub struct TrainArgs {
+    /// The network.
+    #[arg(value_enum)]
+    pub network: Network,
+    /// Training data folder.
+    #[arg(long)]
+    pub data: PathBuf,
+    /// Output weights (safetensors).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Maximum epochs (early stopping may end sooner).
+    #[arg(long)]
+    pub epochs: Option<usize>,
+    /// Continue from the checkpoint beside --out.
+    #[arg(long)]
+    pub resume: bool,
+    /// Seed of initialisation, order and dropout.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Also write the test-split evaluation as JSON here.
+    #[arg(long)]
+    pub report: Option<PathBuf>,
+    /// gru: the right-arm weighted loss (3× on the right shoulder, elbow, wrist; the default).
+    #[arg(long, conflicts_with = "unweighted")]
+    pub weighted: bool,
+    /// gru: plain MSE on all joints.
+    #[arg(long)]
+    pub unweighted: bool,
+}
+
+/// Runs `train`.
+pub fn run(args: &TrainArgs, report: &Reporter) -> Result<(), CliError> {
+    if args.epochs == Some(0) {
+        return Err(CliError::Usage("--epochs must be at least 1".into()));
+    }
+    if let Some(parent) = args.out.parent().filter(|p| !p.as_os_str().is_empty()) {
+        if !parent.is_dir() {
+            return Err(CliError::Output {
+                path: args.out.clone(),
+                reason: format!(
+                    "the folder {} does not exist; create it first",
+                    parent.display()
+                ),
+            });
+        }
+    }
+    limit_candle_threads();
+    match args.network {
+        Network::Bowing => train_bowing(args, report),
+        Network::Emotion => train_emotion(args, report),
+        Network::Gru => crate::train_gru::run(args, report),
+    }
+}
+
+/// candle's element-wise ops spin-wait on a helper thread; on a busy 2-core machine that
+/// wastes a core (measured: 30 % more CPU time, 20 % slower training). Matrix products keep
+/// using every core. An explicit `CANDLE_NUM_THREADS` is respected.
+fn limit_candle_threads() {
+    if std::env::var_os("CANDLE_NUM_THREADS").is_none() {
+        std::env::set_var("CANDLE_NUM_THREADS", "1");
+    }
+}
+
+/// A loading bar fed by a library's `(done, total)` callback.
+pub fn loading_bar(report: &Reporter, what: &str) -> indicatif::ProgressBar {
+    report.progress(0, what)
+}
+
+fn train_bowing(args: &TrainArgs, report: &Reporter) -> Result<(), CliError> {
+    let t0 = Instant::now();
+    let bar = loading_bar(report, "loading");
+    let data = bowing_net::data::load_dataset(&args.data, &|done, total| {
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+    })?;
+    bar.finish_and_clear();
+    report.line(&format!(
+        "{}: {} train, {} validation, {} test recordings loaded in {:.1} s",
+        args.data.display(),
+        data.train.len(),
+        data.val.len(),
+        data.test.len(),
+        t0.elapsed().as_secs_f64()
+    ));
+    let defaults = TrainConfig::default();
+    let cfg = TrainConfig {
+        epochs: args.epochs.unwrap_or(defaults.epochs),
+        seed: args.seed,
+        data_description: describe(&args.data),
+        ..defaults
+    };
+    let bar = report.progress(0, "epoch");
+    let mut last_f1 = String::from("–");
+    let result = bowing_net::train(&data, &cfg, &args.out, args.resume, &mut |p| {
+        if let Some(f1) = p.val_f1 {
+            last_f1 = format!("{f1:.3}");
+        }
+        bar.set_length(p.steps as u64);
+        bar.set_position(p.step as u64);
+        let msg = format!(
+            "epoch {}/{} loss {:.4} val F1 {} (best {:.3})",
+            p.epoch + 1,
+            p.epochs,
+            p.loss,
+            last_f1,
+            p.best_f1
+        );
+        if p.val_f1.is_some() && bar.is_hidden() {
+            report.line(&msg);
+        }
+        bar.set_message(msg);
+    })?;
+    bar.finish_and_clear();
+    report.line(&format!(
+        "{}: trained {} epochs{} in {:.0} s; kept epoch {} (validation F1 ±2 frames {:.3}, {:.3} with the tuned decoder: threshold {:.2}, spacing {})",
+        args.out.display(),
+        result.epochs_run,
+        if result.stopped_early { " (early stop)" } else { "" },
+        result.wall_s,
+        result.best_epoch + 1,
+        result.best_val_f1,
+        result.tuned_val_f1,
+        result.decoder.threshold,
+        result.decoder.min_spacing_frames
+    ));
+    if !data.test.is_empty() {
+        let detector = bowing_net::BowChangeDetector::load(&args.out)?;
+        let eval = bowing_net::metrics::evaluate(&detector, &data.test)?;
+        print_bowing_eval(report, &eval);
+        if let Some(path) = &args.report {
+            write_json(path, &eval)?;
+        }
+    }
+    Ok(())
+}
+
+fn train_emotion(args: &TrainArgs, report: &Reporter) -> Result<(), CliError> {
+    let t0 = Instant::now();
+    let bar = loading_bar(report, "loading");
+    let data = emotion_net::data::load_dataset(&args.data, &|done, total| {
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+    })?;
+    bar.finish_and_clear();
+    report.line(&format!(
+        "{}: {} train, {} validation, {} test tracks loaded in {:.1} s",
+        args.data.display(),
+        data.train.len(),
+        data.val.len(),
+        data.test.len(),
+        t0.elapsed().as_secs_f64()
+    ));
+    let defaults = emotion_net::TrainConfig::default();
+    let cfg = emotion_net::TrainConfig {
+        epochs: args.epochs.unwrap_or(defaults.epochs),
+        seed: args.seed,
+        data_description: describe(&args.data),
+        ..defaults
+    };
+    let bar = report.progress(0, "epoch");
+    let mut last_r = String::from("–");
+    let result = emotion_net::train(&data, &cfg, &args.out, args.resume, &mut |p| {
+        if let Some(r) = p.val_r {
+            last_r = format!("{r:.3}");
+        }
+        bar.set_length(p.steps as u64);
+        bar.set_position(p.step as u64);
+        let msg = format!(
+            "epoch {}/{} loss {:.4} val r {} (best {:.3})",
+            p.epoch + 1,
+            p.epochs,
+            p.loss,
+            last_r,
+            p.best_r
+        );
+        if p.val_r.is_some() && bar.is_hidden() {
+            report.line(&msg);
+        }
+        bar.set_message(msg);
+    })?;
+    bar.finish_and_clear();
+    report.line(&format!(
+        "{}: trained {} epochs{} in {:.0} s; kept epoch {} (validation Pearson r {:.3})",
+        args.out.display(),
+        result.epochs_run,
+        if result.stopped_early {
+            " (early stop)"
+        } else {
+            ""
+        },
+        result.wall_s,
+        result.best_epoch + 1,
+        result.best_val_r
+    ));
+    if !data.test.is_empty() {
+        let est = emotion_net::ArousalEstimator::load(&args.out)?;
+        let eval = emotion_net::train::evaluate(est.net(), &data.test)?;
+        for (group, s) in std::iter::once(("all", &eval.all))
+            .chain(eval.by_group.iter().map(|(g, s)| (g.as_str(), s)))
+        {
+            report.line(&format!(
+                "test {group}: {} tracks, {:.1} min: Pearson r {:.3}, RMSE {:.3}",
+                s.tracks, s.minutes, s.pearson_r, s.rmse
+            ));
+        }
+        if let Some(path) = &args.report {
+            write_json(path, &eval)?;
+        }
+    }
+    Ok(())
+}
+
+fn print_bowing_eval(report: &Reporter, eval: &Evaluation) {
+    let line = |name: &str, s: &bowing_net::metrics::Scores| {
+        format!(
+            "test {name}: {} recordings, {:.1} min: F1 ±2 {:.3} (P {:.3} R {:.3}), ±3 {:.3}; onsets F1 ±3 {:.3}; slurred changes without a false change {:.3} ({} of {})",
+            s.recordings,
+            s.minutes,
+            s.changes_2.f1(),
+            s.changes_2.precision(),
+            s.changes_2.recall(),
+            s.changes_3.f1(),
+            s.onsets_3.f1(),
+            s.slur_precision(),
+            s.slurred_changes - s.slurred_false_alarms,
+            s.slurred_changes
+        )
+    };
+    report.line(&line("all", &eval.all));
+    for (group, s) in &eval.by_group {
+        report.line(&line(group, s));
+    }
+}
+
+/// The data folder as recorded in the weights file.
+pub fn describe(dir: &Path) -> String {
+    dir.file_name()
+        .and_then(|n| n.to_str())
+        .unwrap_or("data")
+        .to_string()
+}
+
+/// Writes a JSON report atomically.
+pub fn write_json<T: serde::Serialize>(path: &Path, value: &T) -> Result<(), CliError> {
+    let text = serde_json::to_string_pretty(value).map_err(|e| CliError::Output {
+        path: path.to_path_buf(),
+        reason: e.to_string(),
+    })?;
+    crate::output::write_atomically(path, |w| {
+        w.write_all(text.as_bytes()).map_err(|e| e.to_string())
+    })
+}

@@ -1,0 +1,141 @@
+//! `violin-skeleton analyze` end to end: the analysis.json schema on synthetic violin, short
+//! and silent audio, bad inputs.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use std::path::Path;
+use std::process::Command;
+
+use serde_json::Value;
+use violin_skeleton::pitch_track::synth::{render, SynthConfig};
+
+fn cli() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_violin-skeleton"))
+}
+
+fn write_wav(path: &Path, samples: &[f32], rate: u32) {
+    let spec = hound::WavSpec {
+        channels: 1,
+        sample_rate: rate,
+        bits_per_sample: 16,
+        sample_format: hound::SampleFormat::Int,
+    };
+    let mut w = hound::WavWriter::create(path, spec).unwrap();
+    for &s in samples {
+        w.write_sample((s * 32_000.0) as i16).unwrap();
+    }
+    w.finalize().unwrap();
+}
+
+fn analyze(wav: &Path, out: &Path, extra: &[&str]) -> std::process::Output {
+    cli()
+        .arg("analyze")
+        .arg(wav)
+        .arg("-o")
+        .arg(out)
+        .args(extra)
+        .output()
+        .unwrap()
+}
+
+#[test]
+fn synthetic_violin_gives_the_schema() {
+    let dir = tempfile::tempdir().unwrap();
+    let piece = render(&SynthConfig {
+        bars: 6,
+        tempo_bpm: 110.0,
+        ..SynthConfig::default()
+    })
+    .unwrap();
+    let wav = dir.path().join("violin.wav");
+    write_wav(&wav, &piece.samples, piece.sample_rate_hz);
+    let out = dir.path().join("analysis.json");
+    let st = analyze(&wav, &out, &[]);
+    assert!(
+        st.status.success(),
+        "{}",
+        String::from_utf8_lossy(&st.stderr)
+    );
+    let stderr = String::from_utf8_lossy(&st.stderr);
+    assert!(stderr.contains("timing:"), "{stderr}");
+    let a: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    assert!((a["duration_s"].as_f64().unwrap() - piece.duration_s()).abs() < 0.01);
+    assert_eq!(a["sample_rate"], 22_050);
+    let hz = a["f0"]["hz"].as_array().unwrap();
+    assert_eq!(hz.len(), a["f0"]["voiced_prob"].as_array().unwrap().len());
+    assert!(hz.iter().all(|v| v.as_f64().unwrap() >= 0.0));
+    assert!(hz.iter().any(|v| v.as_f64().unwrap() == 0.0)); // the silent lead-in
+    let notes = a["notes"].as_array().unwrap();
+    assert!(
+        notes.len() >= piece.notes.len() * 8 / 10,
+        "{} notes",
+        notes.len()
+    );
+    for n in notes {
+        let string = n["string"].as_u64().unwrap();
+        assert!((1..=4).contains(&string));
+        assert!(n["finger"].as_u64().unwrap() <= 4);
+        assert!(n["offset_s"].as_f64().unwrap() > n["onset_s"].as_f64().unwrap());
+    }
+    let beats = a["beats_s"].as_array().unwrap();
+    assert!(beats.len() >= 20, "{} beats", beats.len());
+    assert!(!a["downbeats_s"].as_array().unwrap().is_empty());
+    assert!((a["tempo_bpm"].as_f64().unwrap() - 110.0).abs() < 8.0);
+
+    let out30 = dir.path().join("a30.json");
+    let st = analyze(&wav, &out30, &["--f0-fps", "30"]);
+    assert!(st.status.success());
+    let a30: Value = serde_json::from_str(&std::fs::read_to_string(&out30).unwrap()).unwrap();
+    assert!((a30["f0"]["hop_s"].as_f64().unwrap() - 1.0 / 30.0).abs() < 1e-12);
+}
+
+#[test]
+fn short_and_silent_audio_do_not_fail() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, samples) in [
+        (
+            "short.wav",
+            (0..2_205)
+                .map(|i| (i as f32 * 0.1).sin() * 0.5)
+                .collect::<Vec<_>>(),
+        ),
+        ("silent.wav", vec![0.0f32; 22_050]),
+    ] {
+        let wav = dir.path().join(name);
+        write_wav(&wav, &samples, 22_050);
+        let out = dir.path().join(format!("{name}.json"));
+        let st = analyze(&wav, &out, &["--quiet"]);
+        assert!(
+            st.status.success(),
+            "{name}: {}",
+            String::from_utf8_lossy(&st.stderr)
+        );
+        assert!(st.stderr.is_empty());
+        let a: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+        assert!(a["beats_s"].as_array().unwrap().len() <= 1, "{name}");
+    }
+}
+
+#[test]
+fn bad_inputs_fail_with_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("a.json");
+    let st = analyze(&dir.path().join("missing.wav"), &out, &[]);
+    assert_eq!(st.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&st.stderr);
+    assert!(
+        err.starts_with("error:") && err.contains("missing.wav"),
+        "{err}"
+    );
+    assert!(!out.exists());
+
+    let junk = dir.path().join("junk.wav");
+    std::fs::write(&junk, b"RIFF1234WAVEjunkjunk").unwrap();
+    let st = analyze(&junk, &out, &[]);
+    assert_eq!(st.status.code(), Some(1));
+    assert!(!out.exists());
+
+    let wav = dir.path().join("ok.wav");
+    write_wav(&wav, &[0.1; 4410], 22_050);
+    let st = analyze(&wav, &out, &["--f0-fps", "0"]);
+    assert_eq!(st.status.code(), Some(2));
+}

@@ -1,0 +1,39 @@
+//! The facade's error: every crate's error, wrapped, so callers match on one type.
+
+/// Anything the pipeline can fail with.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// Loading or analysing audio.
+    #[error(transparent)]
+    Audio(#[from] dsp_mel::DspError),
+    /// Pitch tracking.
+    #[error(transparent)]
+    Pitch(#[from] pitch_track::PitchError),
+    /// Beat tracking.
+    #[error(transparent)]
+    Beat(#[from] beat_track::BeatError),
+    /// Fingering.
+    #[error(transparent)]
+    Fingering(#[from] fingering::FingeringError),
+    /// Building the performance.
+    #[error(transparent)]
+    Performance(#[from] motion_synth::PerformanceError),
+    /// Motion synthesis.
+    #[error(transparent)]
+    Synth(#[from] motion_synth::SynthError),
+    /// Motion files.
+    #[error(transparent)]
+    Skeleton(#[from] skeleton::SkeletonError),
+    /// MIDI input or corpus rendering.
+    #[error(transparent)]
+    Corpus(#[from] corpus::CorpusError),
+    /// The recording has no notes to play.
+    #[error("{0}: no notes were found; is this a solo violin recording (not silence or noise)?")]
+    NoNotes(String),
+    /// A network failed or its weights do not fit.
+    #[error("{0}")]
+    Network(String),
+}
+
+/// `Result` with the facade's [`Error`].
+pub type Result<T> = std::result::Result<T, Error>;

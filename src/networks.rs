@@ -1,0 +1,123 @@
+//! The trained models behind the pipeline: the bow-change CNN, the arousal CRNN and the
+//! Method 1 GRU. The embedded defaults are loaded once per process and shared.
+
+use std::path::Path;
+use std::sync::{Arc, OnceLock};
+
+use bowing_net::BowChangeDetector;
+use dsp_mel::Audio;
+use emotion_net::ArousalEstimator;
+use gru_baseline::GruBaseline;
+
+use crate::error::{Error, Result};
+
+/// The three models a pipeline uses.
+#[derive(Clone)]
+pub struct Models {
+    /// Bow-change detector (SPEC §4).
+    pub bowing: Arc<BowChangeDetector>,
+    /// Arousal estimator (SPEC §7).
+    pub emotion: Arc<ArousalEstimator>,
+    /// Method 1 GRU, loaded on first use.
+    pub gru: Option<Arc<GruBaseline>>,
+}
+
+impl std::fmt::Debug for Models {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Models").finish_non_exhaustive()
+    }
+}
+
+fn net_err(what: &str, e: impl std::fmt::Display) -> Error {
+    Error::Network(format!("{what}: {e}"))
+}
+
+static BOWING: OnceLock<std::result::Result<Arc<BowChangeDetector>, String>> = OnceLock::new();
+static EMOTION: OnceLock<std::result::Result<Arc<ArousalEstimator>, String>> = OnceLock::new();
+static GRU: OnceLock<std::result::Result<Arc<GruBaseline>, String>> = OnceLock::new();
+
+/// The embedded bow-change detector (loaded once).
+pub fn pretrained_bowing() -> Result<Arc<BowChangeDetector>> {
+    BOWING
+        .get_or_init(|| {
+            BowChangeDetector::pretrained()
+                .map(Arc::new)
+                .map_err(|e| e.to_string())
+        })
+        .clone()
+        .map_err(|e| net_err("embedded bowing-net weights", e))
+}
+
+/// The embedded arousal estimator (loaded once).
+pub fn pretrained_emotion() -> Result<Arc<ArousalEstimator>> {
+    EMOTION
+        .get_or_init(|| {
+            ArousalEstimator::pretrained()
+                .map(Arc::new)
+                .map_err(|e| e.to_string())
+        })
+        .clone()
+        .map_err(|e| net_err("embedded emotion-net weights", e))
+}
+
+/// The embedded Method 1 GRU (loaded once).
+pub fn pretrained_gru() -> Result<Arc<GruBaseline>> {
+    GRU.get_or_init(|| {
+        GruBaseline::pretrained()
+            .map(Arc::new)
+            .map_err(|e| e.to_string())
+    })
+    .clone()
+    .map_err(|e| net_err("embedded gru-baseline weights", e))
+}
+
+/// User-trained bowing weights.
+pub fn load_bowing(path: &Path) -> Result<Arc<BowChangeDetector>> {
+    BowChangeDetector::load(path)
+        .map(Arc::new)
+        .map_err(|e| net_err(&path.display().to_string(), e))
+}
+
+/// User-trained emotion weights.
+pub fn load_emotion(path: &Path) -> Result<Arc<ArousalEstimator>> {
+    ArousalEstimator::load(path)
+        .map(Arc::new)
+        .map_err(|e| net_err(&path.display().to_string(), e))
+}
+
+/// User-trained GRU weights.
+pub fn load_gru(path: &Path) -> Result<Arc<GruBaseline>> {
+    GruBaseline::load(path)
+        .map(Arc::new)
+        .map_err(|e| net_err(&path.display().to_string(), e))
+}
+
+/// Bow changes (seconds) in `audio` (analysis rate).
+pub fn bow_changes(detector: &BowChangeDetector, audio: &Audio) -> Result<Vec<f64>> {
+    detector
+        .detect_audio(audio)
+        .map_err(|e| net_err("bow-change detection", e))
+}
+
+/// Arousal at 2 Hz for `audio`, one value per half second of `duration_s`.
+pub fn arousal(estimator: &ArousalEstimator, audio: &Audio, duration_s: f64) -> Result<Vec<f32>> {
+    let mut values = estimator
+        .predict_audio(audio)
+        .map_err(|e| net_err("arousal estimation", e))?;
+    let n = ((duration_s * 2.0).ceil() as usize).max(1);
+    let last = values.last().copied().unwrap_or(0.0);
+    values.resize(n, last);
+    for v in &mut values {
+        *v = if v.is_finite() {
+            v.clamp(-1.0, 1.0)
+        } else {
+            0.0
+        };
+    }
+    Ok(values)
+}
+
+/// Method 1: the GRU's motion for `audio`.
+pub fn gru_motion(gru: &GruBaseline, audio: &Audio) -> Result<skeleton::Motion> {
+    gru.generate(audio).map_err(|e| net_err("gru-baseline", e))
+}

@@ -1,0 +1,293 @@
+//! `Pipeline`: audio (or MIDI) → [`Analysis`] → [`Performance`] → [`Motion`].
+
+use std::path::{Path, PathBuf};
+
+use dsp_mel::{resample, Audio, DEFAULT_ANALYSIS_RATE_HZ};
+use fingering::{Fingering, FingeringPlanner, FingeringTable, GreedyPlanner, OptimalPlanner};
+use motion_synth::{synthesize, ArousalCurve, Camera, Performance, PlayedNote, SynthConfig};
+use pitch_track::{segment_notes, NoteConfig, PitchConfig, PitchTracker};
+use skeleton::Motion;
+
+use crate::analysis::{Analysis, AnalyzedNote, ArousalSeries, F0Track};
+use crate::error::{Error, Result};
+use crate::networks;
+
+/// How motion is made from the music.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Method {
+    /// Method 2 (default): analysis → performance → rule-based synthesis.
+    #[default]
+    Rules,
+    /// Method 1: the GRU baseline maps mel frames straight to joints.
+    Gru,
+}
+
+/// Which fingering planner places the notes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum PlannerKind {
+    /// The original design's greedy rule (on the physical fingerboard model, so every pitch
+    /// G3..A7 gets a place).
+    Greedy,
+    /// Viterbi over all places (default).
+    #[default]
+    Optimal,
+}
+
+/// The whole product behind one value. Build it with [`Pipeline::builder`] or use
+/// [`Pipeline::default`] (Method 2, optimal fingering, embedded models, default camera).
+///
+/// ```no_run
+/// use violin_skeleton::{load_audio, MotionFormat, Pipeline};
+/// let audio = load_audio("take1.wav")?;
+/// let motion = Pipeline::default().generate(&audio)?;
+/// motion.write("take1.json", MotionFormat::Json)?;
+/// # Ok::<(), violin_skeleton::Error>(())
+/// ```
+#[derive(Debug, Clone, Default)]
+pub struct Pipeline {
+    method: Method,
+    planner: PlannerKind,
+    synth: SynthConfig,
+    bowing_weights: Option<PathBuf>,
+    emotion_weights: Option<PathBuf>,
+    gru_weights: Option<PathBuf>,
+}
+
+/// Builder of a [`Pipeline`].
+#[derive(Debug, Clone, Default)]
+pub struct PipelineBuilder {
+    inner: Pipeline,
+}
+
+impl PipelineBuilder {
+    /// Method 1 (GRU) or Method 2 (rules, default).
+    pub fn method(mut self, method: Method) -> Self {
+        self.inner.method = method;
+        self
+    }
+
+    /// The fingering planner.
+    pub fn planner(mut self, planner: PlannerKind) -> Self {
+        self.inner.planner = planner;
+        self
+    }
+
+    /// The camera that projects the 3-D rig to pixels.
+    pub fn camera(mut self, camera: Camera) -> Self {
+        self.inner.synth.camera = camera;
+        self
+    }
+
+    /// All synthesis settings at once (rig, camera, frame rate, …).
+    pub fn synth_config(mut self, cfg: SynthConfig) -> Self {
+        self.inner.synth = cfg;
+        self
+    }
+
+    /// Bow-change CNN weights trained with `violin-skeleton train bowing` (default: the
+    /// embedded ones).
+    pub fn bowing_weights(mut self, path: impl Into<PathBuf>) -> Self {
+        self.inner.bowing_weights = Some(path.into());
+        self
+    }
+
+    /// Arousal CRNN weights trained with `violin-skeleton train emotion`.
+    pub fn emotion_weights(mut self, path: impl Into<PathBuf>) -> Self {
+        self.inner.emotion_weights = Some(path.into());
+        self
+    }
+
+    /// Method 1 GRU weights trained with `violin-skeleton train gru`.
+    pub fn gru_weights(mut self, path: impl Into<PathBuf>) -> Self {
+        self.inner.gru_weights = Some(path.into());
+        self
+    }
+
+    /// The pipeline. Weight files given to the builder are read when first needed, and a
+    /// file that does not fit is reported then.
+    pub fn build(self) -> Pipeline {
+        self.inner
+    }
+}
+
+impl Pipeline {
+    /// A builder starting from the defaults.
+    pub fn builder() -> PipelineBuilder {
+        PipelineBuilder::default()
+    }
+
+    /// The synthesis settings.
+    pub fn synth_config(&self) -> &SynthConfig {
+        &self.synth
+    }
+
+    fn plan(&self, midi: &[u8]) -> Vec<Option<Fingering>> {
+        let table = match self.planner {
+            PlannerKind::Greedy => FingeringTable::physical(),
+            PlannerKind::Optimal => FingeringTable::physical(),
+        };
+        let playable: Vec<usize> = (0..midi.len())
+            .filter(|&i| !table.places(midi[i]).is_empty())
+            .collect();
+        let pitches: Vec<u8> = playable.iter().map(|&i| midi[i]).collect();
+        let plan = match self.planner {
+            PlannerKind::Greedy => GreedyPlanner::new(table).plan(&pitches),
+            PlannerKind::Optimal => OptimalPlanner::default().plan(&pitches),
+        }
+        .unwrap_or_default();
+        let mut out = vec![None; midi.len()];
+        for (&i, f) in playable.iter().zip(plan) {
+            out[i] = Some(f);
+        }
+        out
+    }
+
+    /// Analyses a recording: f0 and notes (pYIN-class tracker), fingering, beats, downbeats
+    /// and tempo, bow changes and arousal.
+    pub fn analyze(&self, audio: &Audio) -> Result<Analysis> {
+        let analysed = resample(audio, DEFAULT_ANALYSIS_RATE_HZ)?;
+        let samples = analysed.samples();
+        let rate = analysed.sample_rate_hz();
+        let track = PitchTracker::new(PitchConfig::default())?.track(samples)?;
+        let notes = segment_notes(&track, samples, rate, &NoteConfig::default())?;
+        let beats = beat_track::BeatTracker::new(beat_track::BeatConfig::default())?
+            .track(samples, Some(&notes))?;
+        let midi: Vec<u8> = notes.iter().map(|n| n.midi).collect();
+        let places = self.plan(&midi);
+        let analyzed_notes: Vec<AnalyzedNote> = notes
+            .iter()
+            .zip(places)
+            .map(|(n, f)| AnalyzedNote {
+                onset_s: n.onset_s,
+                offset_s: n.offset_s,
+                midi: n.midi,
+                string: f.map(|f| f.string.number()),
+                position: f.map(|f| f.position),
+                finger: f.map(|f| f.finger),
+            })
+            .collect();
+        let bowing = match &self.bowing_weights {
+            Some(p) => networks::load_bowing(p)?,
+            None => networks::pretrained_bowing()?,
+        };
+        let bow_changes_s = networks::bow_changes(&bowing, &analysed)?;
+        let emotion = match &self.emotion_weights {
+            Some(p) => networks::load_emotion(p)?,
+            None => networks::pretrained_emotion()?,
+        };
+        let arousal = networks::arousal(&emotion, &analysed, audio.duration_s())?;
+        Ok(Analysis {
+            duration_s: audio.duration_s(),
+            sample_rate: audio.sample_rate_hz(),
+            f0: F0Track {
+                hop_s: track.hop_s,
+                hz: track
+                    .f0_hz
+                    .iter()
+                    .map(|f| if f.is_finite() { *f } else { 0.0 })
+                    .collect(),
+                voiced_prob: track.voiced_prob.clone(),
+            },
+            notes: analyzed_notes,
+            bow_changes_s,
+            beats_s: beats.beats_s,
+            downbeats_s: beats.downbeats_s,
+            tempo_bpm: beats.tempo_bpm,
+            arousal: ArousalSeries {
+                rate_hz: 2.0,
+                values: arousal,
+            },
+        })
+    }
+
+    /// The [`Performance`] an analysis describes (the fingering it carries is kept; notes
+    /// without a place are re-planned).
+    pub fn performance(&self, analysis: &Analysis) -> Result<Performance> {
+        if analysis.notes.is_empty() {
+            return Err(Error::NoNotes("the recording".into()));
+        }
+        let midi: Vec<u8> = analysis.notes.iter().map(|n| n.midi).collect();
+        let planned = self.plan(&midi);
+        let notes: Vec<PlayedNote> = analysis
+            .notes
+            .iter()
+            .zip(planned)
+            .map(|(n, planned)| {
+                let mut p = PlayedNote::new(n.onset_s, n.offset_s, n.midi);
+                let given = match (n.string, n.position, n.finger) {
+                    (Some(s), Some(pos), Some(fin)) => {
+                        fingering::ViolinString::from_number(s).map(|s| Fingering::new(s, pos, fin))
+                    }
+                    _ => None,
+                };
+                p.fingering = given.or(planned);
+                p
+            })
+            .collect();
+        let inside = |t: &f64| *t >= 0.0 && *t <= analysis.duration_s;
+        Ok(Performance::builder(analysis.duration_s)
+            .notes(notes)
+            .bow_changes(
+                analysis
+                    .bow_changes_s
+                    .iter()
+                    .copied()
+                    .filter(inside)
+                    .collect(),
+            )
+            .beats(analysis.beats_s.iter().copied().filter(inside).collect())
+            .downbeats(
+                analysis
+                    .downbeats_s
+                    .iter()
+                    .copied()
+                    .filter(inside)
+                    .collect(),
+            )
+            .arousal(ArousalCurve::clamped(
+                analysis.arousal.rate_hz,
+                analysis.arousal.values.clone(),
+            ))
+            .build()?)
+    }
+
+    /// Motion for a recording, 30 fps.
+    pub fn generate(&self, audio: &Audio) -> Result<Motion> {
+        match self.method {
+            Method::Rules => {
+                let analysis = self.analyze(audio)?;
+                self.generate_from_analysis(&analysis)
+            }
+            Method::Gru => {
+                let gru = match &self.gru_weights {
+                    Some(p) => networks::load_gru(p)?,
+                    None => networks::pretrained_gru()?,
+                };
+                networks::gru_motion(&gru, audio)
+            }
+        }
+    }
+
+    /// Motion for an analysis (Method 2).
+    pub fn generate_from_analysis(&self, analysis: &Analysis) -> Result<Motion> {
+        let perf = self.performance(analysis)?;
+        Ok(synthesize(&perf, &self.synth)?)
+    }
+
+    /// Motion for a MIDI file: notes and timing from the file, bowing from slur and
+    /// articulation heuristics, arousal from velocity (see `corpus::midi`).
+    pub fn generate_midi(&self, path: impl AsRef<Path>) -> Result<Motion> {
+        let perf = self.performance_from_midi(path)?;
+        Ok(synthesize(&perf, &self.synth)?)
+    }
+
+    /// The [`Performance`] of a MIDI file.
+    pub fn performance_from_midi(&self, path: impl AsRef<Path>) -> Result<Performance> {
+        let mut timeline = corpus::midi::timeline_from_midi_file(path)?;
+        let midi: Vec<u8> = timeline.notes.iter().map(|n| n.midi).collect();
+        for (n, f) in timeline.notes.iter_mut().zip(self.plan(&midi)) {
+            n.fingering = f;
+        }
+        Ok(corpus::item::performance_of(&timeline)?)
+    }
+}
