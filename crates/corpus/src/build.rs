@@ -21,7 +21,8 @@ pub enum RendererChoice {
     Builtin,
     /// A SoundFont only.
     Soundfont(PathBuf),
-    /// Alternate: even items built-in, odd items SoundFont.
+    /// Half and half: item `i` uses the SoundFont when `(i + i / 10)` is odd, so every split
+    /// (test = indices ending in 3, validation = in 7) gets both renderers.
     Mix(PathBuf),
 }
 
@@ -34,6 +35,12 @@ impl RendererChoice {
             RendererChoice::Mix(_) => "mix",
         }
     }
+}
+
+/// Whether item `index` of a `mix` corpus uses the SoundFont: when `index + index / 10` is
+/// odd, which alternates within every split (test and validation indices end in 3 and 7).
+pub fn mix_uses_soundfont(index: usize) -> bool {
+    (index + index / 10) % 2 == 1
 }
 
 /// What to build.
@@ -119,7 +126,9 @@ pub fn build_corpus(
         .into_par_iter()
         .map(|i| {
             let (renderer, kind): (&dyn Renderer, RendererKind) = match (&cfg.renderer, &font) {
-                (RendererChoice::Mix(_), Some(f)) if i % 2 == 1 => (f, RendererKind::Soundfont),
+                (RendererChoice::Mix(_), Some(f)) if mix_uses_soundfont(i) => {
+                    (f, RendererKind::Soundfont)
+                }
                 (RendererChoice::Soundfont(_), Some(f)) => (f, RendererKind::Soundfont),
                 _ => (&builtin, RendererKind::Builtin),
             };

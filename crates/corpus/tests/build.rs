@@ -93,6 +93,15 @@ fn soundfont_mix_uses_both_renderers() {
     let m = build_corpus(&out, &small(RendererChoice::Mix(font)), &|_, _| {}).unwrap();
     let kinds: std::collections::HashSet<_> = m.items.iter().map(|i| i.renderer).collect();
     assert_eq!(kinds.len(), 2);
+    // Over a large corpus, the test and validation splits get both renderers too.
+    for split in [corpus::manifest::Split::Test, corpus::manifest::Split::Val] {
+        let assigned = corpus::manifest::Split::assign(100);
+        let kinds: std::collections::HashSet<bool> = (0..100)
+            .filter(|&i| assigned[i] == split)
+            .map(corpus::build::mix_uses_soundfont)
+            .collect();
+        assert_eq!(kinds.len(), 2, "{split:?}");
+    }
 }
 
 #[test]
