@@ -19,8 +19,9 @@
 //! * `jitter`: mean |acceleration| of the joints (px/frame²);
 //! * `bone CV`: largest coefficient of variation of a bone's 2-D length;
 //! * `attack F1`: bowing attacks — sign changes of the right wrist's velocity along its main
-//!   axis of motion after a zero-phase 5 Hz Butterworth low-pass (order 4, SPEC §3) — against
-//!   the ground-truth bow changes, ±3 frames (Kao & Su 2020);
+//!   axis of motion after a zero-phase 5 Hz Butterworth low-pass (order 4, SPEC §3), with a
+//!   0.05 px/frame hysteresis so float noise on a still wrist does not count — against the
+//!   ground-truth bow changes, ±3 frames (Kao & Su 2020);
 //! * `beat align`: `motion_synth::metrics::beat_alignment` (speed minima vs beats, σ = 3).
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
@@ -142,11 +143,26 @@ fn bowing_attacks(m: &Motion) -> Res<Vec<usize>> {
         .collect();
     let tf = Butterworth::lowpass(4, 5.0, 30.0)?.transfer_function();
     let smooth = filtfilt(&tf.b, &tf.a, &proj)?;
-    let v: Vec<f64> = smooth.windows(2).map(|p| p[1] - p[0]).collect();
+    // Direction with hysteresis: a reversal counts once the velocity passes DEADBAND_PX the
+    // other way, so float noise on a still wrist is not an attack; it is dated at the frame
+    // where the velocity crossed zero.
+    const DEADBAND_PX: f64 = 0.05;
     let mut out = Vec::new();
-    for t in 1..v.len() {
-        if v[t - 1] * v[t] < 0.0 {
-            out.push(t);
+    let mut direction = 0.0f64;
+    let mut crossing = 0usize;
+    for (t, p) in smooth.windows(2).enumerate() {
+        let v = p[1] - p[0];
+        if v * direction <= 0.0 && crossing == 0 {
+            crossing = t;
+        }
+        if v.abs() > DEADBAND_PX && v.signum() != direction {
+            if direction != 0.0 {
+                out.push(crossing);
+            }
+            direction = v.signum();
+        }
+        if v * direction > 0.0 {
+            crossing = 0;
         }
     }
     Ok(out)

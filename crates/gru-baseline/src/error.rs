@@ -29,7 +29,7 @@ pub enum GruError {
     /// A weights file cannot be used.
     #[error("{path}: {reason}")]
     Weights {
-        /// The file ("<pretrained>" for the embedded weights).
+        /// The file (`<pretrained>` for the embedded weights).
         path: PathBuf,
         /// What is wrong and what to do.
         reason: String,

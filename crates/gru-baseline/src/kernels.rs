@@ -27,39 +27,6 @@ pub(crate) fn matmul_bt(x: &[f32], rows: usize, k: usize, w: &[f32], n: usize, o
     });
 }
 
-/// Weights at least this large (values) are split across two threads by
-/// [`matmul_bt_split`]: each half then stays in one core's L2 cache.
-pub(crate) const SPLIT_MIN_VALUES: usize = 100_000;
-
-/// [`matmul_bt`] with the outputs split in two halves computed with `rayon::join` (the
-/// caller's half on the calling thread). Meant to be called from inside a rayon scope, where
-/// a join costs about a microsecond; the result is identical to [`matmul_bt`].
-pub(crate) fn matmul_bt_split(
-    x: &[f32],
-    rows: usize,
-    k: usize,
-    w: &[f32],
-    n: usize,
-    out: &mut [f32],
-) {
-    if n * k < SPLIT_MIN_VALUES || n < 8 || rows == 0 {
-        matmul_bt(x, rows, k, w, n, out);
-        return;
-    }
-    let half = (n / 2) & !3;
-    let (w_a, w_b) = w.split_at(half * k);
-    let mut a = vec![0f32; rows * half];
-    let mut b = vec![0f32; rows * (n - half)];
-    rayon::join(
-        || matmul_bt(x, rows, k, w_a, half, &mut a),
-        || matmul_bt(x, rows, k, w_b, n - half, &mut b),
-    );
-    for r in 0..rows {
-        out[r * n..r * n + half].copy_from_slice(&a[r * half..(r + 1) * half]);
-        out[r * n + half..(r + 1) * n].copy_from_slice(&b[r * (n - half)..(r + 1) * (n - half)]);
-    }
-}
-
 struct MatmulBt<'a> {
     x: &'a [f32],
     rows: usize,
@@ -123,23 +90,6 @@ impl WithSimd for MatmulBt<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn the_split_product_is_identical() {
-        for (rows, k, n) in [(1, 512, 1536), (2, 256, 768), (1, 3, 5)] {
-            let x: Vec<f32> = (0..rows * k)
-                .map(|i| ((i * 7 % 13) as f32 - 6.0) * 0.1)
-                .collect();
-            let w: Vec<f32> = (0..n * k)
-                .map(|i| ((i * 5 % 11) as f32 - 5.0) * 0.05)
-                .collect();
-            let mut a = vec![0f32; rows * n];
-            let mut b = vec![1f32; rows * n];
-            matmul_bt(&x, rows, k, &w, n, &mut a);
-            matmul_bt_split(&x, rows, k, &w, n, &mut b);
-            assert_eq!(a, b);
-        }
-    }
 
     #[test]
     fn equals_the_naive_product() {

@@ -16,7 +16,7 @@
 
 use candle_core::{bail, CpuStorage, CustomOp3, Device, Layout, Shape, Tensor};
 
-use crate::kernels::{matmul_bt_split, SMALL_BATCH_ROWS};
+use crate::kernels::{matmul_bt, SMALL_BATCH_ROWS};
 
 /// The recurrence of one GRU layer: inputs `xw` `(T, B, 3H)` (input projection incl. `b_ih`),
 /// `w_hh` `(3H, H)`, `b_hh` `(3H)`; output all hidden states `(T, B, H)`.
@@ -100,7 +100,7 @@ impl GruRecurrence {
     }
 
     /// The forward loop for one or two rows (inference): the recurrent product by
-    /// [`matmul_bt_split`] instead of candle's gemm.
+    /// [`matmul_bt`] instead of candle's gemm.
     fn forward_small_batch(&self, xw: &[f32], w_hh: &[f32], b_hh: &[f32]) -> Vec<f32> {
         let (steps, batch, hidden) = (self.steps, self.batch, self.hidden);
         let (g3, bh) = (3 * hidden, batch * hidden);
@@ -114,7 +114,7 @@ impl GruRecurrence {
             } else {
                 &done[(t - 1) * bh..]
             };
-            matmul_bt_split(h_prev, batch, hidden, w_hh, g3, &mut gh);
+            matmul_bt(h_prev, batch, hidden, w_hh, g3, &mut gh);
             self.gates(
                 &xw[t * batch * g3..][..batch * g3],
                 &gh,
@@ -147,8 +147,7 @@ impl CustomOp3 for GruRecurrence {
         self.check(xw.len(), w_hh.len(), b_hh.len())?;
         let (steps, batch, hidden) = (self.steps, self.batch, self.hidden);
         if batch <= SMALL_BATCH_ROWS {
-            // Inside a rayon scope each step's split product costs only a cheap join.
-            let out = rayon::scope(|_| self.forward_small_batch(xw, w_hh, b_hh));
+            let out = self.forward_small_batch(xw, w_hh, b_hh);
             return Ok((CpuStorage::F32(out), Shape::from((steps, batch, hidden))));
         }
         let g3 = 3 * hidden;

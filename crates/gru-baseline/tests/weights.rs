@@ -178,6 +178,16 @@ fn unusable_files_are_typed_errors_naming_the_file() {
 fn the_shipped_weights_load_with_their_record() {
     let net = GruBaseline::pretrained().unwrap();
     assert_eq!(net.config(), &Config::default());
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("weights/gru_baseline.safetensors");
+    let (same, record) = GruBaseline::load_with_record(&file).unwrap();
+    assert_eq!(same.mel_stats(), net.mel_stats());
+    let record = record.expect("the shipped weights carry their training record");
+    assert!(record.weighted_loss, "{record:?}");
+    assert!(
+        record.train_frames >= 60 * 60 * 30,
+        "trained on >= 60 min: {record:?}"
+    );
+    assert!(std::fs::metadata(&file).unwrap().len() < 10_000_000);
     assert_eq!(net.target_space().image_size, Some((1280, 720)));
     let out = net.predict_mel(mel().view()).unwrap();
     assert_eq!(out.len(), 45);
