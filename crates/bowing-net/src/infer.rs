@@ -6,6 +6,7 @@
 
 use candle_core::{Device, Tensor};
 use ndarray::ArrayView2;
+use rayon::prelude::*;
 
 use crate::error::{NetError, Result};
 use crate::features::check_mel;
@@ -55,16 +56,28 @@ pub fn frame_probabilities(net: &BowingNet, mel: ArrayView2<f32>) -> Result<Vec<
     let center = cfg.center_offset() as isize;
     let seq_len = sequence_frames(net, TILE_WINDOWS);
     let tiles = frames.div_ceil(TILE_WINDOWS);
-    let mut out = vec![f32::NAN; frames];
     let bands = cfg.n_mels;
-    let mut buf = vec![0.0f32; seq_len * bands];
-    for tile in 0..tiles {
+    // Tiles are independent: run them on all cores (the ops inside stay parallel too).
+    let results: Vec<Result<Vec<Vec<f32>>>> = (0..tiles)
+        .into_par_iter()
+        .map(|tile| {
+            let mut buf = vec![0.0f32; seq_len * bands];
+            copy_frames(
+                mel,
+                (tile * TILE_WINDOWS) as isize - center,
+                seq_len,
+                pad,
+                &mut buf,
+            );
+            let x = Tensor::from_vec(buf, (1, seq_len, bands), &Device::Cpu)?;
+            let logits = net.sequence_logits(&x, false)?;
+            Ok(BowingNet::change_probability(&logits)?.to_vec2::<f32>()?)
+        })
+        .collect();
+    let mut out = vec![f32::NAN; frames];
+    for (tile, probs) in results.into_iter().enumerate() {
         let start = tile * TILE_WINDOWS;
-        copy_frames(mel, start as isize - center, seq_len, pad, &mut buf);
-        let x = Tensor::from_slice(&buf, (1, seq_len, bands), &Device::Cpu)?;
-        let logits = net.sequence_logits(&x, false)?;
-        let probs = BowingNet::change_probability(&logits)?.to_vec2::<f32>()?;
-        for (row, values) in probs.iter().enumerate() {
+        for (row, values) in probs?.iter().enumerate() {
             for (step, &p) in values.iter().enumerate() {
                 let (_, s) = window_start(row, step, 1);
                 if s < TILE_WINDOWS && start + s < frames {

@@ -174,3 +174,19 @@ pub fn evaluate(
     }
     Ok(eval)
 }
+
+/// Validation F1 (±2 frames) of `net` with `decoder`, and the per-recording probabilities.
+pub fn validation_f1(
+    net: &crate::BowingNet,
+    val: &[crate::data::Recording],
+    decoder: &crate::Decoder,
+) -> crate::Result<(f64, Vec<Vec<f32>>)> {
+    let mut counts = Counts::default();
+    let mut all = Vec::with_capacity(val.len());
+    for r in val {
+        let p = crate::infer::frame_probabilities(net, r.mel_db.view())?;
+        counts.add(&match_events(&decoder.pick(&p), &r.changes, 2));
+        all.push(p);
+    }
+    Ok((counts.f1(), all))
+}

@@ -26,11 +26,12 @@ use corpus::rng::Rng;
 use serde::{Deserialize, Serialize};
 
 use crate::data::{Recording, Splits};
+use crate::decode::tune_decoder;
 use crate::decode::Decoder;
 use crate::detector::BowChangeDetector;
 use crate::error::{NetError, Result};
-use crate::infer::{copy_frames, frame_probabilities, pad_value, sequence_frames};
-use crate::metrics::{match_events, Counts};
+use crate::infer::{copy_frames, pad_value, sequence_frames};
+use crate::metrics::validation_f1;
 use crate::model::{window_start, BowingNet, Config, DTYPE, PHASES};
 use crate::nn::{store, weighted_cross_entropy, Adam, AdamConfig};
 
@@ -203,43 +204,6 @@ fn check_recordings(recs: &[Recording], what: &str, bands: usize) -> Result<()> 
             .map_err(|e| NetError::Input(format!("{}: {e}", r.name)))?;
     }
     Ok(())
-}
-
-/// Validation F1 (±2 frames) of `net` with `decoder`, and the per-recording probabilities.
-pub fn validation_f1(
-    net: &BowingNet,
-    val: &[Recording],
-    decoder: &Decoder,
-) -> Result<(f64, Vec<Vec<f32>>)> {
-    let mut counts = Counts::default();
-    let mut all = Vec::with_capacity(val.len());
-    for r in val {
-        let p = frame_probabilities(net, r.mel_db.view())?;
-        counts.add(&match_events(&decoder.pick(&p), &r.changes, 2));
-        all.push(p);
-    }
-    Ok((counts.f1(), all))
-}
-
-/// The decoder (threshold 0.2–0.9, spacing 2–4 frames) with the best F1 at ±2 frames.
-pub fn tune_decoder(probs: &[Vec<f32>], val: &[Recording]) -> (Decoder, f64) {
-    let mut best = (Decoder::default(), -1.0);
-    for spacing in 2..=4 {
-        for k in 0..=14 {
-            let d = Decoder {
-                threshold: 0.2 + 0.05 * k as f32,
-                min_spacing_frames: spacing,
-            };
-            let mut c = Counts::default();
-            for (p, r) in probs.iter().zip(val) {
-                c.add(&match_events(&d.pick(p), &r.changes, 2));
-            }
-            if c.f1() > best.1 {
-                best = (d, c.f1());
-            }
-        }
-    }
-    best
 }
 
 /// Trains a bowing network on `data.train`, early-stopping on `data.val`, writing the best

@@ -21,10 +21,6 @@ use clap::{Parser, Subcommand};
 
 use error::CliError;
 
-/// mimalloc cuts the page faults of the networks' many short-lived tensors.
-#[global_allocator]
-static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
-
 /// Turn a solo violin recording into a violinist skeleton animation (30 fps).
 #[derive(Debug, Parser)]
 #[command(name = "violin-skeleton", version, about, long_about = None)]

@@ -24,7 +24,7 @@ pub enum Network {
 /// Arguments of `train`.
 #[derive(Debug, Args)]
 #[command(
-    after_help = "Examples:\n  violin-skeleton train bowing --data corpus --out bowing.safetensors\n  violin-skeleton train emotion --data DEAM --out emotion.safetensors --epochs 40 --seed 2\n  violin-skeleton train gru --data corpus --out gru.safetensors --unweighted --epochs 20\n  violin-skeleton train bowing --data corpus --out bowing.safetensors --resume\n\nThe data folder's layout is recognised: a corpus (manifest.json, from `violin-skeleton corpus`),\nURMP (AuSep_K_vn_NAME.wav + openpose_K_vn_NAME/ per track; bowing only) or DEAM\n(annotations/… + MEMD_audio/; emotion only). The best weights so far are kept in --out and a\ncheckpoint beside it (NAME.ckpt.safetensors) after every epoch; --resume continues from it.\nAt the end the test split is evaluated and summarised."
+    after_help = "Examples:\n  violin-skeleton train bowing --data corpus --out bowing.safetensors\n  violin-skeleton train emotion --data DEAM --out emotion.safetensors --epochs 40 --seed 2\n  violin-skeleton train gru --data corpus --out gru.safetensors --unweighted --epochs 20\n  violin-skeleton train bowing --data corpus --out bowing.safetensors --resume\n\nThe data folder's layout is recognised: a corpus (manifest.json, from `violin-skeleton corpus`),\nURMP (AuSep_K_vn_NAME.wav + openpose_K_vn_NAME/ per track; bowing and gru) or DEAM\n(annotations/… + MEMD_audio/; emotion only). The best weights so far are kept in --out and a\ncheckpoint beside it (NAME.ckpt.safetensors) after every epoch; --resume continues from it.\nAt the end the test split is evaluated and summarised."
 )]
 pub struct TrainArgs {
     /// The network.
@@ -222,7 +222,7 @@ fn train_emotion(args: &TrainArgs, report: &Reporter) -> Result<(), CliError> {
     ));
     if !data.test.is_empty() {
         let est = emotion_net::ArousalEstimator::load(&args.out)?;
-        let eval = emotion_net::train::evaluate(est.net(), &data.test)?;
+        let eval = emotion_net::evaluate::evaluate(est.net(), &data.test)?;
         for (group, s) in std::iter::once(("all", &eval.all))
             .chain(eval.by_group.iter().map(|(g, s)| (g.as_str(), s)))
         {

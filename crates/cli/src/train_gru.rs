@@ -92,7 +92,7 @@ pub fn run(args: &TrainArgs, report: &Reporter) -> Result<(), CliError> {
     bar.finish_and_clear();
     let p = &summary.progress;
     report.line(&format!(
-        "{}: trained {} epochs{} in {:.0} s ({} loss); kept epoch {} (validation loss {:.5})",
+        "{}: trained {} epochs{} in {:.0} s ({} loss); kept epoch {} ({} loss {:.5})",
         args.out.display(),
         p.epochs_done,
         if summary.stopped_early {
@@ -107,6 +107,11 @@ pub fn run(args: &TrainArgs, report: &Reporter) -> Result<(), CliError> {
             "MSE"
         },
         p.best_epoch,
+        if data.val.is_empty() {
+            "training"
+        } else {
+            "validation"
+        },
         p.best_loss
     ));
     if !data.test.is_empty() {

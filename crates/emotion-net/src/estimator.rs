@@ -1,5 +1,5 @@
 //! A trained arousal network as stored in a weights file, and whole-recording inference
-//! (sliding 20-step windows, one step apart, overlap-averaged).
+//! (sliding 20-step windows, half overlapping, averaged where they overlap).
 
 use std::collections::HashMap;
 use std::path::Path;
@@ -138,30 +138,43 @@ impl ArousalEstimator {
     }
 }
 
-/// Overlap-averaged arousal of a whole spectrogram with `net` (inference mode): every
-/// `steps`-frame window one frame apart; a recording shorter than one window is padded with
-/// its quietest value and the output cut back.
+/// Frames between the starts of consecutive inference windows (windows overlap by half).
+pub const INFER_HOP_STEPS: usize = 10;
+
+/// Overlap-averaged arousal of a whole spectrogram with `net` (inference mode): `steps`-frame
+/// windows every [`INFER_HOP_STEPS`] frames, the last one aligned with the end, averaged
+/// where they overlap; a recording shorter than one window is padded with its quietest value
+/// and the output cut back.
 pub fn predict_with(net: &EmotionNet, mel_db: ArrayView2<f32>) -> Result<Vec<f32>> {
+    predict_with_hop(net, mel_db, INFER_HOP_STEPS)
+}
+
+/// [`predict_with`] with windows every `hop` frames (1 = every frame).
+pub fn predict_with_hop(net: &EmotionNet, mel_db: ArrayView2<f32>, hop: usize) -> Result<Vec<f32>> {
     let cfg = net.config();
     check_mel(mel_db, cfg.n_mels)?;
     let frames = mel_db.nrows();
     let t = cfg.steps;
     let pad = mel_db.iter().copied().fold(f32::INFINITY, f32::min);
     let padded = frames.max(t);
-    let windows = padded - t + 1;
-    let bands = cfg.n_mels;
-    let mut buf = vec![0.0f32; windows * t * bands];
-    for (w, chunk) in buf.chunks_exact_mut(t * bands).enumerate() {
-        bowing_net::infer::copy_frames(mel_db, w as isize, t, pad, chunk);
+    let last = padded - t;
+    let mut starts: Vec<usize> = (0..=last).step_by(hop.max(1)).collect();
+    if starts.last() != Some(&last) {
+        starts.push(last);
     }
-    let x = Tensor::from_vec(buf, (windows, t, bands), &Device::Cpu)?;
+    let bands = cfg.n_mels;
+    let mut buf = vec![0.0f32; starts.len() * t * bands];
+    for (&s, chunk) in starts.iter().zip(buf.chunks_exact_mut(t * bands)) {
+        bowing_net::infer::copy_frames(mel_db, s as isize, t, pad, chunk);
+    }
+    let x = Tensor::from_vec(buf, (starts.len(), t, bands), &Device::Cpu)?;
     let y = net.forward_t(&x, false)?.to_vec2::<f32>()?;
     let mut sum = vec![0.0f32; padded];
     let mut count = vec![0u32; padded];
-    for (w, row) in y.iter().enumerate() {
+    for (&s, row) in starts.iter().zip(&y) {
         for (k, v) in row.iter().enumerate() {
-            sum[w + k] += v;
-            count[w + k] += 1;
+            sum[s + k] += v;
+            count[s + k] += 1;
         }
     }
     Ok(sum

@@ -24,6 +24,7 @@
 pub mod data;
 mod error;
 pub mod estimator;
+pub mod evaluate;
 pub mod features;
 pub mod model;
 pub mod train;
