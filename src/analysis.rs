@@ -14,6 +14,33 @@ pub struct F0Track {
     pub voiced_prob: Vec<f32>,
 }
 
+impl F0Track {
+    /// The same track at `fps` frames per second (e.g. 30 for the skeleton), resampled by
+    /// `pitch_track::PitchTrack::resample_to_fps` (log-frequency interpolation between voiced
+    /// frames, nearest frame across voicing changes).
+    pub fn resampled_to_fps(&self, fps: f64) -> F0Track {
+        let track = pitch_track::PitchTrack {
+            hop_s: self.hop_s,
+            f0_hz: self
+                .hz
+                .iter()
+                .map(|&f| if f > 0.0 { f } else { f32::NAN })
+                .collect(),
+            voiced_prob: self.voiced_prob.clone(),
+        }
+        .resample_to_fps(fps);
+        F0Track {
+            hop_s: track.hop_s,
+            hz: track
+                .f0_hz
+                .iter()
+                .map(|&f| if f.is_finite() { f } else { 0.0 })
+                .collect(),
+            voiced_prob: track.voiced_prob,
+        }
+    }
+}
+
 /// A note with the place it is played at (absent when no place plays it).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct AnalyzedNote {

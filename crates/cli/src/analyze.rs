@@ -1,6 +1,6 @@
-//! `violin-skeleton analyze`: f0, notes with fingering, beats, downbeats and tempo of a
-//! recording, written as `analysis.json` (ARCHITECTURE.md's schema, the fields that exist so
-//! far).
+//! `violin-skeleton analyze`: f0, notes with fingering, bow changes, beats, downbeats, tempo
+//! and arousal of a recording, written as `analysis.json` (ARCHITECTURE.md's schema) by the
+//! same [`Pipeline::analyze`] that `generate` uses.
 //!
 //! JSON has no NaN, so unvoiced f0 frames are written as `0` (mir_eval's convention);
 //! `voiced_prob` still says how likely each frame is voiced. `sample_rate` is the input
@@ -8,14 +8,10 @@
 //! plays (below the open G) has no `string`/`position`/`finger` fields.
 
 use std::path::PathBuf;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use clap::Args;
-use serde_json::{json, Map, Value};
-use violin_skeleton::beat_track::{BeatConfig, BeatTracker};
-use violin_skeleton::dsp_mel::{load_audio, resample, DEFAULT_ANALYSIS_RATE_HZ};
-use violin_skeleton::fingering::{FingeringPlanner, OptimalPlanner};
-use violin_skeleton::pitch_track::{segment_notes, Note, NoteConfig, PitchConfig, PitchTracker};
+use violin_skeleton::{load_audio, Pipeline};
 
 use crate::error::CliError;
 use crate::output::write_atomically;
@@ -47,127 +43,45 @@ pub fn run(args: &AnalyzeArgs, report: &Reporter) -> Result<(), CliError> {
             )));
         }
     }
-    let bar = report.progress(6, "analyze");
-    let mut timing: Vec<(&str, Duration)> = Vec::new();
-    let t = Instant::now();
-    let original = load_audio(&args.input)?;
-    timing.push(("decode", t.elapsed()));
+    let bar = report.progress(3, "analyze");
+    let t0 = Instant::now();
+    let audio = load_audio(&args.input)?;
+    let decoded = t0.elapsed();
     bar.inc(1);
-    let t = Instant::now();
-    let audio = resample(&original, DEFAULT_ANALYSIS_RATE_HZ)?;
-    timing.push(("resample", t.elapsed()));
+    let t1 = Instant::now();
+    let mut analysis = Pipeline::default().analyze(&audio)?;
+    if let Some(fps) = args.f0_fps {
+        analysis.f0 = analysis.f0.resampled_to_fps(fps);
+    }
+    let analysed = t1.elapsed();
     bar.inc(1);
-
-    let t = Instant::now();
-    let tracker = PitchTracker::new(PitchConfig::default())?;
-    let track = tracker.track(audio.samples())?;
-    timing.push(("pitch", t.elapsed()));
-    bar.inc(1);
-    let t = Instant::now();
-    let notes = segment_notes(
-        &track,
-        audio.samples(),
-        audio.sample_rate_hz(),
-        &NoteConfig::default(),
-    )?;
-    timing.push(("notes", t.elapsed()));
-    bar.inc(1);
-    let t = Instant::now();
-    let beats = BeatTracker::new(BeatConfig::default())?.track(audio.samples(), Some(&notes))?;
-    timing.push(("beats", t.elapsed()));
-    bar.inc(1);
-
-    let t = Instant::now();
-    let bow_changes_s =
-        violin_skeleton::bowing_net::BowChangeDetector::pretrained()?.detect_audio(&audio)?;
-    let arousal =
-        violin_skeleton::emotion_net::ArousalEstimator::pretrained()?.predict_audio(&audio)?;
-    timing.push(("bowing + arousal", t.elapsed()));
-
-    let t = Instant::now();
-    let f0 = match args.f0_fps {
-        Some(fps) => track.resample_to_fps(fps),
-        None => track,
-    };
-    let document = json!({
-        "duration_s": original.duration_s(),
-        "sample_rate": original.sample_rate_hz(),
-        "f0": {
-            "hop_s": f0.hop_s,
-            "hz": f0.f0_hz.iter().map(|f| if f.is_finite() { *f } else { 0.0 }).collect::<Vec<f32>>(),
-            "voiced_prob": f0.voiced_prob,
-        },
-        "notes": notes_with_fingering(&notes),
-        "beats_s": beats.beats_s,
-        "downbeats_s": beats.downbeats_s,
-        "tempo_bpm": beats.tempo_bpm,
-        "bow_changes_s": bow_changes_s,
-        "arousal": {"rate_hz": 2, "values": arousal},
-    });
+    let t2 = Instant::now();
     write_atomically(&args.output, |w| {
-        serde_json::to_writer(w, &document).map_err(|e| e.to_string())
+        serde_json::to_writer(w, &analysis).map_err(|e| e.to_string())
     })?;
-    timing.push(("fingering + write", t.elapsed()));
+    let written = t2.elapsed();
     bar.inc(1);
     bar.finish_and_clear();
 
-    let voiced = f0.f0_hz.iter().filter(|f| f.is_finite()).count();
+    let voiced = analysis.f0.hz.iter().filter(|f| **f > 0.0).count();
     report.line(&format!(
-        "{}: {:.1} s → {} notes, {:.0}% voiced, {:.1} bpm in {} ({} beats, {} downbeats) written to {}",
+        "{}: {:.1} s → {} notes, {:.0}% voiced, {} bow changes, {:.1} bpm ({} beats, {} downbeats) written to {}",
         args.input.display(),
-        original.duration_s(),
-        notes.len(),
-        100.0 * voiced as f64 / f0.f0_hz.len().max(1) as f64,
-        beats.tempo_bpm,
-        if beats.meter.subdivisions == 3 {
-            format!("{}/8", 3 * beats.meter.beats_per_bar)
-        } else {
-            format!("{}/4", beats.meter.beats_per_bar)
-        },
-        beats.beats_s.len(),
-        beats.downbeats_s.len(),
+        analysis.duration_s,
+        analysis.notes.len(),
+        100.0 * voiced as f64 / analysis.f0.hz.len().max(1) as f64,
+        analysis.bow_changes_s.len(),
+        analysis.tempo_bpm,
+        analysis.beats_s.len(),
+        analysis.downbeats_s.len(),
         args.output.display()
     ));
-    let total: Duration = timing.iter().map(|(_, d)| *d).sum();
-    let parts: Vec<String> = timing
-        .iter()
-        .map(|(name, d)| format!("{name} {:.1} ms", d.as_secs_f64() * 1e3))
-        .collect();
     report.line(&format!(
-        "timing: {}, total {:.1} ms",
-        parts.join(", "),
-        total.as_secs_f64() * 1e3
+        "timing: decode {:.1} ms, analyze {:.1} ms, write {:.1} ms, total {:.1} ms",
+        decoded.as_secs_f64() * 1e3,
+        analysed.as_secs_f64() * 1e3,
+        written.as_secs_f64() * 1e3,
+        t0.elapsed().as_secs_f64() * 1e3
     ));
     Ok(())
-}
-
-/// The notes as JSON objects, with string/position/finger from the optimal planner for
-/// every note the fingerboard can play (planned together, in order).
-fn notes_with_fingering(notes: &[Note]) -> Vec<Value> {
-    let planner = OptimalPlanner::default();
-    let playable: Vec<usize> = (0..notes.len())
-        .filter(|&i| !planner.table().places(notes[i].midi).is_empty())
-        .collect();
-    let pitches: Vec<u8> = playable.iter().map(|&i| notes[i].midi).collect();
-    let plan = planner.plan(&pitches).unwrap_or_default();
-    let mut places = vec![None; notes.len()];
-    for (&i, f) in playable.iter().zip(plan) {
-        places[i] = Some(f);
-    }
-    notes
-        .iter()
-        .zip(places)
-        .map(|(n, place)| {
-            let mut o = Map::new();
-            o.insert("onset_s".into(), json!(n.onset_s));
-            o.insert("offset_s".into(), json!(n.offset_s));
-            o.insert("midi".into(), json!(n.midi));
-            if let Some(f) = place {
-                o.insert("string".into(), json!(f.string.number()));
-                o.insert("position".into(), json!(f.position));
-                o.insert("finger".into(), json!(f.finger));
-            }
-            Value::Object(o)
-        })
-        .collect()
 }
