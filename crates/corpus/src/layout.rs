@@ -13,7 +13,6 @@
 //! written under a temporary name and renamed when complete.
 
 use std::fmt::Write as _;
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use skeleton::formats::MotionFormat;
@@ -79,9 +78,8 @@ pub fn write_item(root: &Path, index: usize, item: &CorpusItem) -> Result<PathBu
     item.motion
         .write(dir.join("motion.json"), MotionFormat::Json)
         .map_err(|e| io_err(&dir.join("motion.json"), e))?;
-    set_mode(&dir.join("motion.json"), 0o644);
     // tempfile creates private (0700/0600) entries; corpus files are ordinary shared files.
-    set_mode(dir, 0o755);
+    atomic_file::make_ordinary(dir, true);
     let final_dir = item_dir(root, index);
     if final_dir.exists() {
         std::fs::remove_dir_all(&final_dir).map_err(|e| io_err(&final_dir, e))?;
@@ -115,21 +113,5 @@ fn write_wav(path: &Path, audio: &[f32], rate: u32) -> Result<(), CorpusError> {
 
 /// Writes `text` to `path` through a temporary file in the same folder.
 pub fn write_atomic(path: &Path, text: &str) -> Result<(), CorpusError> {
-    let dir = path.parent().unwrap_or(Path::new("."));
-    let mut tmp = tempfile::NamedTempFile::new_in(dir).map_err(|e| io_err(path, e))?;
-    tmp.write_all(text.as_bytes())
-        .map_err(|e| io_err(path, e))?;
-    set_mode(tmp.path(), 0o644);
-    tmp.persist(path).map_err(|e| io_err(path, e.error))?;
-    Ok(())
+    atomic_file::write_bytes_atomically(path, text.as_bytes()).map_err(|e| io_err(path, e))
 }
-
-/// Gives a file or folder ordinary permissions (tempfile makes them private).
-#[cfg(unix)]
-fn set_mode(path: &Path, mode: u32) {
-    use std::os::unix::fs::PermissionsExt;
-    let _ = std::fs::set_permissions(path, std::fs::Permissions::from_mode(mode));
-}
-
-#[cfg(not(unix))]
-fn set_mode(_path: &Path, _mode: u32) {}

@@ -3,7 +3,7 @@
 //! and the training record. [`GruBaseline::pretrained`] embeds the shipped default.
 
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use candle_core::{DType, Device, Tensor};
 use candle_nn::VarBuilder;
@@ -251,28 +251,10 @@ impl GruBaseline {
 
 /// Writes `bytes` to `path` through a temporary file that is renamed at the end.
 pub(crate) fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
-    let dir: PathBuf = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    let tmp = dir.join(format!(
-        ".{}.tmp{}",
-        path.file_name()
-            .and_then(|n| n.to_str())
-            .unwrap_or("weights"),
-        std::process::id()
-    ));
-    std::fs::write(&tmp, bytes).map_err(|e| {
+    atomic_file::write_bytes_atomically(path, bytes).map_err(|e| {
         weights_err(
             path,
             format!("cannot write ({e}); check the folder exists and is writable"),
-        )
-    })?;
-    std::fs::rename(&tmp, path).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        weights_err(
-            path,
-            format!("cannot move the written file into place ({e})"),
         )
     })
 }

@@ -1,6 +1,5 @@
 //! PNG pictures: one frame in memory, or a folder of numbered frames.
 
-use std::io::Write;
 use std::path::Path;
 
 use skeleton::Motion;

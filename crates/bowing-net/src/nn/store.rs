@@ -2,7 +2,6 @@
 //! anything else a loader needs in the string metadata; f32 tensors only.
 
 use std::collections::HashMap;
-use std::io::Write;
 use std::path::Path;
 
 use candle_core::{Device, Tensor};
@@ -142,29 +141,9 @@ pub fn read(path: &Path) -> Result<TensorFile> {
 
 /// Writes bytes to `path` through a temporary file in the same folder (never half-written).
 pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    let err = |e: &dyn std::fmt::Display| {
-        NetError::io(path, format!("cannot write ({e}); is the folder writable?"))
-    };
-    let mut tmp = tempfile::NamedTempFile::new_in(dir).map_err(|e| err(&e))?;
-    tmp.write_all(bytes).map_err(|e| err(&e))?;
-    make_readable(tmp.path());
-    tmp.persist(path).map_err(|e| err(&e.error))?;
-    Ok(())
+    atomic_file::write_bytes_atomically(path, bytes)
+        .map_err(|e| NetError::io(path, format!("cannot write ({e}); is the folder writable?")))
 }
-
-/// Temporary files are private (0600); weights files are ordinary shared files.
-#[cfg(unix)]
-fn make_readable(path: &Path) {
-    use std::os::unix::fs::PermissionsExt;
-    let _ = std::fs::set_permissions(path, std::fs::Permissions::from_mode(0o644));
-}
-
-#[cfg(not(unix))]
-fn make_readable(_path: &Path) {}
 
 /// The `(name, shape)` of every variable of `varmap`, sorted by name.
 pub fn var_shapes(varmap: &VarMap) -> Vec<(String, Vec<usize>)> {

@@ -314,34 +314,13 @@ pub fn write_bvh(motion: &Motion, mut out: impl Write) -> Result<()> {
 /// place at the end, so a failure leaves no half-written file.
 pub fn write_bvh_file(motion: &Motion, path: impl AsRef<Path>) -> Result<()> {
     let path = path.as_ref();
-    let io = |source: std::io::Error| SynthError::Io {
-        path: path.to_path_buf(),
-        source,
-    };
-    let dir = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
-    let mut tmp = tempfile::Builder::new()
-        .prefix(".motion-synth-")
-        .suffix(".bvh.tmp")
-        .tempfile_in(dir)
-        .map_err(io)?;
-    {
-        let mut w = std::io::BufWriter::new(tmp.as_file_mut());
-        write_bvh(motion, &mut w)?;
-        w.flush().map_err(io)?;
-    }
-    // Temporary files are private (0600); the result should be readable like any file.
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::PermissionsExt;
-        tmp.as_file()
-            .set_permissions(std::fs::Permissions::from_mode(0o644))
-            .map_err(io)?;
-    }
-    tmp.persist(path).map_err(|e| io(e.error))?;
-    Ok(())
+    atomic_file::write_atomically(path, |w| write_bvh(motion, w)).map_err(|e| match e {
+        atomic_file::AtomicWriteError::Io(source) => SynthError::Io {
+            path: path.to_path_buf(),
+            source,
+        },
+        atomic_file::AtomicWriteError::Write(e) => e,
+    })
 }
 
 #[cfg(test)]

@@ -1,6 +1,6 @@
 //! Reading whole files, and atomic writes of files and directories.
 
-use std::io::{BufWriter, Write};
+use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use crate::error::{Result, SkeletonError};
@@ -63,32 +63,11 @@ pub(crate) fn write_file(
             "cannot write: is a directory; give a file name",
         ));
     }
-    let dir = parent_dir(path)?;
-    let tmp = tempfile::Builder::new()
-        .prefix(".skeleton-")
-        .suffix(".tmp")
-        .tempfile_in(&dir)
-        .map_err(|e| io_error(path, e))?;
-    {
-        let mut w = BufWriter::new(tmp.as_file());
-        write(&mut w)?;
-        w.flush().map_err(|e| io_error(path, e))?;
-    }
-    set_mode(tmp.path(), 0o644);
-    tmp.persist(path).map_err(|e| io_error(path, e.error))?;
-    Ok(())
-}
-
-/// Temporary files and directories are private (0600 / 0700); an output is an ordinary
-/// file or directory. Best effort: a failure leaves the private mode.
-fn set_mode(path: &Path, mode: u32) {
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::PermissionsExt;
-        let _ = std::fs::set_permissions(path, std::fs::Permissions::from_mode(mode));
-    }
-    #[cfg(not(unix))]
-    let _ = (path, mode);
+    parent_dir(path)?;
+    atomic_file::write_atomically(path, write).map_err(|e| match e {
+        atomic_file::AtomicWriteError::Io(e) => io_error(path, e),
+        atomic_file::AtomicWriteError::Write(e) => e,
+    })
 }
 
 /// True when `dir` holds only `*_keypoints.json` files (or nothing): safe to replace.
@@ -128,7 +107,7 @@ pub(crate) fn write_dir(dir: &Path, fill: impl FnOnce(&Path) -> Result<()>) -> R
         .tempdir_in(&parent)
         .map_err(|e| io_error(dir, e))?;
     fill(tmp.path())?;
-    set_mode(tmp.path(), 0o755);
+    atomic_file::make_ordinary(tmp.path(), true);
     if dir.exists() {
         // Move the old directory aside (a fresh temporary name), move the new one in, then
         // delete the old one; on failure put the old one back.
