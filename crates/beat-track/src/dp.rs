@@ -86,25 +86,28 @@ fn dynamic_program(local: &[f64], period: f64, tightness: f64) -> (Vec<isize>, V
     let threshold = 0.01 * local.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     let mut backlink = vec![-1isize; n];
     let mut cumulative = vec![0.0f64; n];
+    let near = round_half_even(period / 2.0) as usize;
+    let far = (2.0 * period) as usize;
+    // penalty[d − near] for an interval of d frames, near ≤ d ≤ far.
     let ln_period = period.ln();
-    let near = round_half_even(period / 2.0) as isize;
-    let far = (2.0 * period) as isize;
+    let penalty: Vec<f64> = (near..=far.max(near))
+        .map(|d| tightness * ((d as f64).ln() - ln_period).powi(2))
+        .collect();
     let mut first_beat = true;
     for i in 0..n {
         let mut best = f64::NEG_INFINITY;
         let mut location = -1isize;
-        let mut loc = i as isize - near;
-        while loc > i as isize - far - 1 {
-            if loc < 0 {
+        // Candidates from the nearest (i − near) back to the farthest (i − far); on ties the
+        // nearest wins, as in librosa.
+        for (k, p) in penalty.iter().enumerate() {
+            let Some(loc) = i.checked_sub(near + k) else {
                 break;
-            }
-            let d = (i as isize - loc) as f64;
-            let score = cumulative[loc as usize] - tightness * (d.ln() - ln_period).powi(2);
+            };
+            let score = cumulative[loc] - p;
             if score > best {
                 best = score;
-                location = loc;
+                location = loc as isize;
             }
-            loc -= 1;
         }
         cumulative[i] = if location >= 0 {
             local[i] + best

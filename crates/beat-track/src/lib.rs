@@ -6,7 +6,8 @@
 //! * [`OnsetStrength`] — `librosa.onset.onset_strength` (log-mel spectral flux), mean and
 //!   median over bands in one pass; [`onset_detect`] / [`peak_pick`] — `onset_detect`.
 //! * [`estimate_tempo`] — `librosa.feature.tempo` (mean autocorrelation tempogram with a
-//!   log-normal prior around 120 bpm).
+//!   log-normal prior around 120 bpm), the mean taken over every fourth 8 s window
+//!   ([`TempoConfig::frame_stride`]; [`mean_tempogram`] keeps librosa's every window).
 //! * [`track_beats`] — `librosa.beat.beat_track`'s dynamic programme (Ellis 2007,
 //!   tightness 100), which follows tempo drift (rubato) beat by beat.
 //! * [`estimate_meter`] — beats per bar (2, 3, 4 or 6/8) and bar phase from accents, onset-
@@ -30,6 +31,7 @@ mod error;
 pub mod eval;
 pub mod meter;
 mod onset;
+mod pair_fft;
 mod peaks;
 mod spectrum;
 mod tempo;
@@ -41,5 +43,5 @@ pub use meter::{estimate_meter, Meter, MeterConfig, MeterEstimate};
 pub use onset::{Aggregate, OnsetConfig, OnsetEnvelope, OnsetStrength};
 pub use peaks::{onset_detect, peak_pick, PeakPick};
 pub use pitch_track::synth;
-pub use tempo::{estimate_tempo, mean_tempogram, TempoConfig};
+pub use tempo::{estimate_tempo, mean_tempogram, mean_tempogram_strided, TempoConfig};
 pub use tracker::{BeatAnalysis, BeatConfig, BeatTracker};

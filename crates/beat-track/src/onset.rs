@@ -1,6 +1,7 @@
 //! Onset strength as `librosa.onset.onset_strength`: mel power → dB → first difference
 //! over `lag` frames, half-wave rectified, aggregated over bands, shifted for centred frames.
 
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{first_non_finite, BeatError, Result};
@@ -119,50 +120,46 @@ impl OnsetStrength {
             return Err(BeatError::NonFinite { index });
         }
         let db = self.mel.compute_db(samples);
-        let bands = self.mel.n_mels();
-        let frames = db.len() / bands.max(1);
+        let bands = self.mel.n_mels().max(1);
+        let frames = db.len() / bands;
         let row = |t: usize| &db[t * bands..(t + 1) * bands];
         let lag = self.cfg.lag;
         let pad = lag + self.cfg.n_fft / (2 * self.cfg.hop_length);
+        let loudness_db = db
+            .par_chunks(bands)
+            .map(|r| lane_sum(r) / bands as f32)
+            .collect();
+        let half = self.cfg.max_size / 2;
+        let with_median = self.cfg.with_median;
+        // Frame t + lag against frame t, written at t + pad.
+        let flux: Vec<(f32, f32)> = (0..frames.saturating_sub(pad))
+            .into_par_iter()
+            .map_init(
+                || (vec![0.0f32; bands], vec![0.0f32; bands]),
+                |(diff, reference), t| {
+                    let (now, before) = (row(t + lag), row(t));
+                    if half > 0 {
+                        max_filter(before, half, reference);
+                    }
+                    let reference = if half == 0 { before } else { &reference[..] };
+                    for ((d, &x), &r) in diff.iter_mut().zip(now).zip(reference) {
+                        *d = (x - r).max(0.0);
+                    }
+                    let mean = lane_sum(diff) / bands as f32;
+                    (mean, if with_median { median_of(diff) } else { 0.0 })
+                },
+            )
+            .collect();
         let mut mean = vec![0.0f32; frames];
-        let mut median = if self.cfg.with_median {
+        let mut median = if with_median {
             vec![0.0f32; frames]
         } else {
             Vec::new()
         };
-        let loudness_db = db
-            .chunks(bands.max(1))
-            .map(|r| r.iter().sum::<f32>() / bands.max(1) as f32)
-            .collect();
-        let mut diff = vec![0.0f32; bands];
-        let mut reference = vec![0.0f32; bands];
-        let half = self.cfg.max_size / 2;
-        for t in 0..frames.saturating_sub(lag) {
-            let out = t + pad;
-            if out >= frames {
-                break;
-            }
-            let (now, before) = (row(t + lag), row(t));
-            if half > 0 {
-                for (b, r) in reference.iter_mut().enumerate() {
-                    // scipy's maximum_filter1d, mode "reflect" (edge sample repeated).
-                    *r = (b as isize - half as isize..=(b + half) as isize)
-                        .map(|k| {
-                            let k = if k < 0 { -k - 1 } else { k } as usize;
-                            before[if k >= bands { 2 * bands - k - 1 } else { k }]
-                        })
-                        .fold(f32::NEG_INFINITY, f32::max);
-                }
-            }
-            let mut sum = 0.0f32;
-            let reference = if half == 0 { before } else { &reference[..] };
-            for ((d, &x), &r) in diff.iter_mut().zip(now).zip(reference) {
-                *d = (x - r).max(0.0);
-                sum += *d;
-            }
-            mean[out] = sum / bands as f32;
-            if let Some(m) = median.get_mut(out) {
-                *m = median_of(&mut diff);
+        for (t, (m, med)) in flux.into_iter().enumerate() {
+            mean[t + pad] = m;
+            if let Some(v) = median.get_mut(t + pad) {
+                *v = med;
             }
         }
         Ok(OnsetEnvelope {
@@ -172,6 +169,32 @@ impl OnsetStrength {
             loudness_db,
         })
     }
+}
+
+/// scipy's `maximum_filter1d(x, 2 · half + 1, mode="reflect")` (edge sample repeated).
+fn max_filter(x: &[f32], half: usize, out: &mut [f32]) {
+    let n = x.len();
+    for (b, r) in out.iter_mut().enumerate() {
+        *r = (b as isize - half as isize..=(b + half) as isize)
+            .map(|k| {
+                let k = if k < 0 { -k - 1 } else { k } as usize;
+                x[if k >= n { 2 * n - k - 1 } else { k }]
+            })
+            .fold(f32::NEG_INFINITY, f32::max);
+    }
+}
+
+/// Sum in eight independent lanes (vectorises without reassociation flags).
+fn lane_sum(x: &[f32]) -> f32 {
+    let mut acc = [0.0f32; 8];
+    let chunks = x.chunks_exact(8);
+    let tail: f32 = chunks.remainder().iter().sum();
+    for c in chunks {
+        for k in 0..8 {
+            acc[k] += c[k];
+        }
+    }
+    acc.iter().sum::<f32>() + tail
 }
 
 /// Median (the mean of the two middle values for an even count), reordering `x`.

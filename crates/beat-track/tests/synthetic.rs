@@ -4,7 +4,9 @@
 
 use beat_track::eval::{beat_prf, BEAT_TOLERANCE_S};
 use beat_track::synth::{render, SynthConfig};
-use beat_track::{BeatConfig, BeatError, BeatTracker};
+use beat_track::{
+    estimate_tempo, BeatConfig, BeatError, BeatTracker, OnsetConfig, OnsetStrength, TempoConfig,
+};
 use pitch_track::{segment_notes, NoteConfig, PitchConfig, PitchTracker};
 
 #[test]
@@ -22,6 +24,23 @@ fn varied_pieces_meet_the_beat_and_downbeat_goals() {
             &NoteConfig::default(),
         )
         .unwrap();
+        // The strided tempogram mean gives librosa's every-window tempo.
+        let env = OnsetStrength::new(OnsetConfig::default())
+            .unwrap()
+            .compute(&piece.samples)
+            .unwrap();
+        let tempo = |frame_stride| {
+            let cfg = TempoConfig {
+                frame_stride,
+                ..TempoConfig::default()
+            };
+            estimate_tempo(&env.mean, piece.sample_rate_hz, 512, &cfg)
+        };
+        assert_eq!(
+            tempo(1),
+            tempo(TempoConfig::default().frame_stride),
+            "seed {seed}"
+        );
         let with_notes = tracker.track(&piece.samples, Some(&notes)).unwrap();
         let plain = tracker.track(&piece.samples, None).unwrap();
         let beat = beat_prf(&piece.beats_s, &with_notes.beats_s, BEAT_TOLERANCE_S).f_measure;
