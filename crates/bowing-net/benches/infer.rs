@@ -1,12 +1,10 @@
 //! Inference cost: frame probabilities (stride 1) over 180 s of mel frames (5 400 windows),
-//! and one training step (8 sequences × 128 windows).
+//! and one training step of the default settings.
 #![allow(clippy::unwrap_used, clippy::expect_used, missing_docs)]
 
 use bowing_net::infer::frame_probabilities;
-use bowing_net::nn::store;
 use bowing_net::{BowChangeDetector, BowingNet, Config};
-use candle_core::{DType, Device, Tensor};
-use candle_nn::{VarBuilder, VarMap};
+use candle_core::{Device, Tensor};
 use criterion::{criterion_group, criterion_main, Criterion};
 use ndarray::Array2;
 
@@ -28,31 +26,25 @@ fn bench(c: &mut Criterion) {
         b.iter(|| detector.detect_frames(mel.view()).unwrap())
     });
 
-    let varmap = VarMap::new();
-    let net = BowingNet::new(
-        &Config::default(),
-        VarBuilder::from_varmap(&varmap, DType::F32, &Device::Cpu),
-    )
-    .unwrap();
-    store::init_seeded(&varmap, 1, |n, d| {
-        (!n.starts_with("norm."))
-            .then(|| (6.0 / d.iter().skip(1).product::<usize>().max(1) as f64).sqrt())
-    })
-    .unwrap();
-    let seq = bowing_net::infer::sequence_frames(&net, 128);
+    // One training step of the default settings: forward through the phase tree in
+    // training mode (dropout on) and backward.
+    let cfg = bowing_net::TrainConfig::default();
+    let (_varmap, net) = BowingNet::seeded(&Config::default(), cfg.init, 1).unwrap();
+    let (b, w) = (cfg.batch_sequences, cfg.sequence_windows);
+    let seq = bowing_net::infer::sequence_frames(&net, w);
     let x = Tensor::from_vec(
         mel.slice(ndarray::s![..seq, ..])
             .iter()
             .cycle()
-            .take(8 * seq * 128)
+            .take(b * seq * 128)
             .copied()
             .collect::<Vec<f32>>(),
-        (8, seq, 128),
+        (b, seq, 128),
         &Device::Cpu,
     )
     .unwrap();
-    group.bench_function("train_step_8x128_windows", |b| {
-        b.iter(|| {
+    group.bench_function(format!("train_step_{b}x{w}_windows"), |bench| {
+        bench.iter(|| {
             let l = net.sequence_logits(&x, true).unwrap();
             let loss = l.sqr().unwrap().mean_all().unwrap();
             loss.backward().unwrap()

@@ -1,8 +1,9 @@
-//! Evaluates bowing-net weights on every recording of a data folder (all splits, or the test
-//! split with `--test`) and prints the scores as JSON.
+//! Evaluates bowing-net weights on every recording of a data folder (all splits, or only the
+//! test split with `--test`, only the validation split with `--val`) and prints the scores
+//! as JSON (overall and per renderer).
 //!
 //! ```sh
-//! cargo run --release -p bowing-net --example evaluate -- DATA_DIR [WEIGHTS] [--test]
+//! cargo run --release -p bowing-net --example evaluate -- DATA_DIR [WEIGHTS] [--test|--val]
 //! ```
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
@@ -13,11 +14,12 @@ use bowing_net::BowChangeDetector;
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let test_only = args.iter().any(|a| a == "--test");
+    let val_only = args.iter().any(|a| a == "--val");
     let paths: Vec<&String> = args.iter().filter(|a| !a.starts_with("--")).collect();
     let dir = PathBuf::from(
         paths
             .first()
-            .ok_or("usage: evaluate DATA_DIR [WEIGHTS] [--test]")?,
+            .ok_or("usage: evaluate DATA_DIR [WEIGHTS] [--test|--val]")?,
     );
     let detector = match paths.get(1) {
         Some(w) => BowChangeDetector::load(w.as_ref())?,
@@ -26,6 +28,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let data = bowing_net::data::load_dataset(&dir, &|_, _| {})?;
     let recs: Vec<_> = if test_only {
         data.test
+    } else if val_only {
+        data.val
     } else {
         data.train
             .into_iter()

@@ -13,7 +13,8 @@ use crate::error::{NetError, Result};
 use crate::features::{bowing_mel, FPS};
 use crate::infer::frame_probabilities;
 use crate::model::{BowingNet, Config, DTYPE};
-use crate::nn::store::{self, TensorFile, KEY_FORMAT, KEY_VERSION};
+use net_store::file::{self, TensorFile};
+use net_store::vars;
 
 /// Value of the `format` metadata entry of bowing-net weights.
 pub const FORMAT_NAME: &str = "violin-skeleton/bowing-net";
@@ -44,7 +45,7 @@ pub struct BowChangeDetector {
 pub fn expected_shapes(cfg: &Config) -> Result<Vec<(String, Vec<usize>)>> {
     let varmap = VarMap::new();
     BowingNet::new(cfg, VarBuilder::from_varmap(&varmap, DTYPE, &Device::Cpu))?;
-    Ok(store::var_shapes(&varmap))
+    Ok(vars::var_shapes(&varmap))
 }
 
 impl BowChangeDetector {
@@ -57,27 +58,20 @@ impl BowChangeDetector {
     /// `violin-skeleton train bowing`); rejects other networks, other format versions and
     /// tensors whose shapes do not match the stored configuration.
     pub fn load(path: &Path) -> Result<Self> {
-        Self::from_file(store::read(path)?, path)
+        Self::from_file(file::read(path)?, path)
     }
 
     /// [`BowChangeDetector::load`] from bytes; `path` names them in errors.
     pub fn from_bytes(bytes: &[u8], path: &Path) -> Result<Self> {
-        Self::from_file(store::decode(bytes, path)?, path)
+        Self::from_file(file::decode(bytes, path)?, path)
     }
 
     fn from_file(file: TensorFile, path: &Path) -> Result<Self> {
         file.check_format(path, FORMAT_NAME, FORMAT_VERSION)?;
-        let cfg: Config = serde_json::from_str(file.meta("config", path)?)
-            .map_err(|e| NetError::weights(path, format!("bad \"config\" metadata ({e})")))?;
+        let cfg: Config = file.meta_json("config", path)?;
         cfg.validate().map_err(|e| NetError::weights(path, e))?;
-        let decoder: Decoder = serde_json::from_str(file.meta("decoder", path)?)
-            .map_err(|e| NetError::weights(path, format!("bad \"decoder\" metadata ({e})")))?;
-        let expected = expected_shapes(&cfg)?;
-        file.check_shapes(path, &expected)?;
-        let tensors: Vec<(String, Tensor)> = expected
-            .iter()
-            .filter_map(|(name, _)| file.tensors.get(name).map(|t| (name.clone(), t.clone())))
-            .collect();
+        let decoder: Decoder = file.meta_json("decoder", path)?;
+        let tensors = file.take_expected(path, &expected_shapes(&cfg)?)?;
         let training = file.metadata.get("training").cloned().unwrap_or_default();
         Self::from_tensors(&cfg, tensors, decoder, training)
     }
@@ -106,7 +100,7 @@ impl BowChangeDetector {
         decoder: Decoder,
         training: String,
     ) -> Result<Self> {
-        let tensors = store::var_tensors(varmap)
+        let tensors = vars::var_tensors(varmap)
             .into_iter()
             .map(|(n, t)| t.copy().map(|t| (n, t)))
             .collect::<candle_core::Result<Vec<_>>>()?;
@@ -115,18 +109,21 @@ impl BowChangeDetector {
 
     /// Writes the weights file (through a temporary file).
     pub fn save(&self, path: &Path) -> Result<()> {
-        store::write_atomically(path, &self.to_bytes()?)
+        Ok(file::write_atomically(path, &self.to_bytes()?)?)
     }
 
     /// The weights file's bytes.
     pub fn to_bytes(&self) -> Result<Vec<u8>> {
-        let mut meta = HashMap::new();
-        meta.insert(KEY_FORMAT.to_string(), FORMAT_NAME.to_string());
-        meta.insert(KEY_VERSION.to_string(), FORMAT_VERSION.to_string());
-        meta.insert("config".into(), json(self.net.config())?);
-        meta.insert("decoder".into(), json(&self.decoder)?);
-        meta.insert("training".into(), self.training.clone());
-        store::encode(&self.tensors, meta)
+        let meta = file::metadata(
+            FORMAT_NAME,
+            FORMAT_VERSION,
+            &[
+                ("config", file::to_json(self.net.config())?),
+                ("decoder", file::to_json(&self.decoder)?),
+                ("training", self.training.clone()),
+            ],
+        );
+        Ok(file::encode(&self.tensors, meta)?)
     }
 
     /// The network.
@@ -173,8 +170,4 @@ impl BowChangeDetector {
             .map(|f| f as f64 / FPS)
             .collect())
     }
-}
-
-fn json<T: serde::Serialize>(v: &T) -> Result<String> {
-    serde_json::to_string(v).map_err(|e| NetError::Config(e.to_string()))
 }

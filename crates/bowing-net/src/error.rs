@@ -8,22 +8,6 @@ pub enum NetError {
     /// A tensor operation failed (a shape or dtype bug, or out of memory).
     #[error("tensor operation failed: {0}")]
     Candle(#[from] candle_core::Error),
-    /// A file could not be read or written.
-    #[error("{path}: {reason}")]
-    Io {
-        /// The file.
-        path: PathBuf,
-        /// What went wrong and what to do.
-        reason: String,
-    },
-    /// A weights file is not one this version can use (wrong network, version or shapes).
-    #[error("{path}: not usable weights: {reason}")]
-    Weights {
-        /// The weights file (empty for the embedded defaults).
-        path: PathBuf,
-        /// What does not match, and what to do.
-        reason: String,
-    },
     /// A data set folder or one of its files is missing or malformed.
     #[error("{path}: {reason}")]
     Data {
@@ -41,6 +25,9 @@ pub enum NetError {
     /// Audio decoding or the mel spectrogram failed.
     #[error(transparent)]
     Dsp(#[from] dsp_mel::DspError),
+    /// A weights or checkpoint file could not be read, written or used.
+    #[error(transparent)]
+    Store(#[from] net_store::StoreError),
     /// Reading an OpenPose directory failed.
     #[error(transparent)]
     Pose(#[from] pose_preproc::PosePreprocError),
@@ -50,14 +37,6 @@ pub enum NetError {
 pub type Result<T> = std::result::Result<T, NetError>;
 
 impl NetError {
-    /// An [`NetError::Io`] for `path`.
-    pub fn io(path: impl Into<PathBuf>, reason: impl std::fmt::Display) -> Self {
-        NetError::Io {
-            path: path.into(),
-            reason: reason.to_string(),
-        }
-    }
-
     /// A [`NetError::Data`] for `path`.
     pub fn data(path: impl Into<PathBuf>, reason: impl std::fmt::Display) -> Self {
         NetError::Data {
@@ -66,11 +45,8 @@ impl NetError {
         }
     }
 
-    /// A [`NetError::Weights`] for `path`.
+    /// A weights file that cannot be used ([`net_store::StoreError::Weights`]) for `path`.
     pub fn weights(path: impl Into<PathBuf>, reason: impl std::fmt::Display) -> Self {
-        NetError::Weights {
-            path: path.into(),
-            reason: reason.to_string(),
-        }
+        NetError::Store(net_store::StoreError::weights(path, reason))
     }
 }

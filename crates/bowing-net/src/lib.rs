@@ -14,8 +14,10 @@
 //! * [`BowChangeDetector`]: weights + normalisation + decoder in one safetensors file;
 //!   [`BowChangeDetector::pretrained`] is the shipped default (see the README for how it was
 //!   trained);
-//! * [`nn`]: building blocks shared with emotion-net (fast NHWC convolution, max pool with a
-//!   correct backward, seeded dropout, checkpointable Adam, weights files).
+//! * [`batch`]: training sequences, frame targets and loss weights, augmentation;
+//! * [`nn`]: layers shared with emotion-net (fast NHWC convolution, max pools with a
+//!   correct backward, seeded dropout); weights files, Adam, schedules and checkpoints come
+//!   from `net-store`.
 //!
 //! ```no_run
 //! use bowing_net::{features::bowing_mel, BowChangeDetector};
@@ -26,6 +28,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+pub mod batch;
 pub mod data;
 pub mod decode;
 pub mod detector;

@@ -14,12 +14,12 @@
 //! frame on 4 consecutive steps of the right leaf. [`BowingNet::sequence_logits`] does this;
 //! it is exactly the per-window [`BowingNet::forward_t`] (tested), about 20× cheaper.
 
-use candle_core::{DType, Module, Tensor, D};
-use candle_nn::{Init, Linear, VarBuilder};
+use candle_core::{DType, Device, Module, Tensor, D};
+use candle_nn::{Init, Linear, VarBuilder, VarMap};
 use serde::{Deserialize, Serialize};
 
 use crate::error::{NetError, Result};
-use crate::nn::{conv2d_nhwc, max_pool2x2_nhwc, DropoutRng, SeededDropout};
+use crate::nn::{conv2d_relu_nhwc, max_pool2x2_nhwc, pool_phases_nhwc, DropoutRng, SeededDropout};
 
 /// The network's shape (SPEC §4 by default).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -108,6 +108,36 @@ impl Config {
     }
 }
 
+/// How weights are initialised (uniform, seeded; biases start at 0).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum WeightInit {
+    /// Keras's default: `±sqrt(6 / (fan_in + fan_out))`.
+    #[default]
+    GlorotUniform,
+    /// He et al. for ReLU layers: `±sqrt(6 / fan_in)` (keeps the activations' scale through
+    /// the ReLU layers).
+    HeUniform,
+}
+
+impl WeightInit {
+    /// The uniform bound of a weight of shape `(out, in, k…)`.
+    ///
+    /// ```
+    /// use bowing_net::model::WeightInit;
+    /// assert!((WeightInit::HeUniform.bound(&[64, 384]) - 0.125).abs() < 1e-12);
+    /// ```
+    pub fn bound(self, dims: &[usize]) -> f64 {
+        match self {
+            WeightInit::GlorotUniform => net_store::vars::glorot_bound(dims),
+            WeightInit::HeUniform => {
+                let fan_in: usize = dims.iter().skip(1).product();
+                (6.0 / fan_in.max(1) as f64).sqrt()
+            }
+        }
+    }
+}
+
 /// One convolution's parameters.
 #[derive(Debug, Clone)]
 struct Conv {
@@ -183,6 +213,31 @@ impl BowingNet {
         })
     }
 
+    /// A network of `cfg` in a fresh `VarMap`, with seeded uniform weights (`init`), zero
+    /// biases and an identity input normalisation (mean 0, std 1): where training starts, and
+    /// a stand-in for tests and benchmarks.
+    ///
+    /// ```
+    /// use bowing_net::{model::WeightInit, BowingNet};
+    /// let (varmap, net) = BowingNet::seeded(&Default::default(), WeightInit::GlorotUniform, 7)?;
+    /// assert_eq!(net_store::vars::var_shapes(&varmap).len(), 14);
+    /// # Ok::<(), bowing_net::NetError>(())
+    /// ```
+    pub fn seeded(cfg: &Config, init: WeightInit, seed: u64) -> Result<(VarMap, Self)> {
+        let varmap = VarMap::new();
+        let net = Self::new(cfg, VarBuilder::from_varmap(&varmap, DTYPE, &Device::Cpu))?;
+        net_store::vars::init_seeded(&varmap, seed, |name, dims| {
+            if name.starts_with("norm.") {
+                None
+            } else if name.ends_with("bias") {
+                Some(0.0)
+            } else {
+                Some(init.bound(dims))
+            }
+        })?;
+        Ok((varmap, net))
+    }
+
     /// The configuration.
     pub fn config(&self) -> &Config {
         &self.cfg
@@ -193,15 +248,17 @@ impl BowingNet {
         &self.rng
     }
 
-    /// `(mel_db − mean) / std` per band; `x` is `(…, n_mels)`.
+    /// `(mel_db − mean) / std` per band; `x` is `(…, n_mels)`. The statistics are constants
+    /// (never trained), so no gradient flows to them, and none to the input unless the input
+    /// itself asks for one (then the first convolution skips that work).
     pub fn normalise(&self, x: &Tensor) -> Result<Tensor> {
-        Ok(x.broadcast_sub(&self.norm_mean)?
-            .broadcast_div(&self.norm_std)?)
+        Ok(x.broadcast_sub(&self.norm_mean.detach())?
+            .broadcast_div(&self.norm_std.detach())?)
     }
 
     fn conv_relu(&self, i: usize, x: &Tensor) -> Result<Tensor> {
         let c = &self.convs[i];
-        Ok(conv2d_nhwc(x, &c.weight, &c.bias, (0, 0))?.relu()?)
+        Ok(conv2d_relu_nhwc(x, &c.weight, &c.bias, (0, 0))?)
     }
 
     /// The dense head on `(…, flat_features)` → `(…, 2)` logits.
@@ -252,13 +309,7 @@ impl BowingNet {
         let mut x = self.normalise(mel)?.unsqueeze(3)?;
         for i in 0..3 {
             let y = self.conv_relu(i, &x)?;
-            let len = y.dim(1)?;
-            let common = (len - 1) / 2;
-            let even = max_pool2x2_nhwc(&y.narrow(1, 0, 2 * common)?)?;
-            let odd = max_pool2x2_nhwc(&y.narrow(1, 1, 2 * common)?)?;
-            x = self
-                .conv_dropout
-                .forward_t(&Tensor::cat(&[&even, &odd], 0)?, train)?;
+            x = self.conv_dropout.forward_t(&pool_phases_nhwc(&y)?, train)?;
         }
         let (t3, _) = self.cfg.trunk_output();
         let (rows, steps, f3, c3) = x.dims4()?;

@@ -2,67 +2,46 @@
 //! custom ops' forward values against candle's reference ops.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use bowing_net::nn::{conv2d_nhwc, max_pool2x2_nhwc, store, weighted_cross_entropy};
+use bowing_net::model::WeightInit;
+use bowing_net::nn::{
+    conv2d_nhwc, conv2d_relu_nhwc, max_pool2x2_nhwc, pool_phases_nhwc, weighted_cross_entropy,
+};
 use bowing_net::{BowingNet, Config};
-use candle_core::{DType, Device, Tensor, Var};
-use candle_nn::{VarBuilder, VarMap};
+use candle_core::{Device, Tensor, Var};
+use candle_nn::VarMap;
 use corpus::rng::Rng;
+use net_store::gradcheck::{check_input_gradient, check_parameter_gradients, uniform_tensor};
+use net_store::vars;
 
 fn random(shape: &[usize], seed: u64) -> Tensor {
-    let mut rng = Rng::new(seed);
-    let n: usize = shape.iter().product();
-    let v: Vec<f32> = (0..n).map(|_| rng.uniform(-1.0, 1.0) as f32).collect();
-    Tensor::from_vec(v, shape, &Device::Cpu).unwrap()
+    uniform_tensor(shape, seed, 1.0).unwrap()
 }
 
-/// Checks d(sum(f(x) * proj))/dx against finite differences on up to `samples` elements.
+/// Checks the input gradient of `f` on up to `samples` elements (finite-difference step 1e-2).
 fn check_grad(x0: &Tensor, f: &dyn Fn(&Tensor) -> Tensor, samples: usize, tol: f64) {
     check_grad_eps(x0, f, samples, tol, 1e-2);
 }
 
 /// [`check_grad`] with the finite-difference step `eps`.
 fn check_grad_eps(x0: &Tensor, f: &dyn Fn(&Tensor) -> Tensor, samples: usize, tol: f64, eps: f32) {
-    let x = Var::from_tensor(x0).unwrap();
-    let y = f(x.as_tensor());
-    let proj = random(y.dims(), 99);
-    let loss = (y * &proj).unwrap().sum_all().unwrap();
-    let grads = loss.backward().unwrap();
-    let g = grads
-        .get(x.as_tensor())
-        .unwrap()
-        .flatten_all()
-        .unwrap()
-        .to_vec1::<f32>()
-        .unwrap();
-    let base = x0.flatten_all().unwrap().to_vec1::<f32>().unwrap();
-    let n = base.len();
-    let step = (n / samples).max(1);
-    let mut checked = 0;
-    for i in (0..n).step_by(step) {
-        let eval = |delta: f32| {
-            let mut v = base.clone();
-            v[i] += delta;
-            let t = Tensor::from_vec(v, x0.dims(), &Device::Cpu).unwrap();
-            let y = f(&t);
-            f64::from(
-                (y * &proj)
-                    .unwrap()
-                    .sum_all()
-                    .unwrap()
-                    .to_scalar::<f32>()
-                    .unwrap(),
-            )
-        };
-        let numeric = (eval(eps) - eval(-eps)) / (2.0 * f64::from(eps));
-        let analytic = f64::from(g[i]);
-        let err = (numeric - analytic).abs() / numeric.abs().max(analytic.abs()).max(1.0);
-        assert!(
-            err < tol,
-            "element {i}: numeric {numeric}, analytic {analytic}"
-        );
-        checked += 1;
-    }
+    let checked = check_input_gradient(x0, &|x| Ok(f(x)), samples, tol, eps).unwrap();
     assert!(checked > 0);
+}
+
+fn max_abs_diff(a: &Tensor, b: &Tensor) -> f32 {
+    (a - b)
+        .unwrap()
+        .abs()
+        .unwrap()
+        .max_all()
+        .unwrap()
+        .to_scalar::<f32>()
+        .unwrap()
+}
+
+/// A network of the SPEC's shape with seeded random weights.
+fn random_net(seed: u64) -> (VarMap, BowingNet) {
+    BowingNet::seeded(&Config::default(), WeightInit::HeUniform, seed).unwrap()
 }
 
 #[test]
@@ -189,83 +168,35 @@ fn weighted_cross_entropy_gradient_is_exact() {
 
 #[test]
 fn whole_network_gradients_are_exact() {
-    let cfg = Config::default();
-    let varmap = VarMap::new();
-    let net = BowingNet::new(
-        &cfg,
-        VarBuilder::from_varmap(&varmap, DType::F32, &Device::Cpu),
-    )
-    .unwrap();
-    store::init_seeded(&varmap, 3, |n, d| {
-        (!n.starts_with("norm."))
-            .then(|| (6.0 / d.iter().skip(1).product::<usize>().max(1) as f64).sqrt())
-    })
-    .unwrap();
+    let (varmap, net) = random_net(3);
     let x = (random(&[2, 60, 128], 9) * 3.0).unwrap();
     // Gradient with respect to the input (all layers chained, dropout off).
     check_grad(&x, &|x| net.forward_t(x, false).unwrap(), 40, 2e-2);
-    // And with respect to every parameter tensor (one value each).
-    let logits = net.forward_t(&x, false).unwrap();
-    let grads = logits.sum_all().unwrap().backward().unwrap();
-    for (name, var) in store::trainable_vars(&varmap, |n| n.starts_with("norm.")) {
-        let g = grads
-            .get(var.as_tensor())
-            .unwrap_or_else(|| panic!("no gradient for {name}"));
-        assert_eq!(g.dims(), var.as_tensor().dims());
-        let base = var
-            .as_tensor()
-            .flatten_all()
+    // And with respect to every parameter tensor (one value each); the input is a plain
+    // tensor here, so the first convolution skips its input gradient.
+    let loss = || {
+        let s = net
+            .forward_t(&x, false)
             .unwrap()
-            .to_vec1::<f32>()
-            .unwrap();
-        let gv = g.flatten_all().unwrap().to_vec1::<f32>().unwrap();
-        let i = gv
-            .iter()
-            .enumerate()
-            .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
-            .unwrap()
-            .0;
-        let eps = 1e-3f32;
-        let eval = |d: f32| {
-            let mut v = base.clone();
-            v[i] += d;
-            var.set(&Tensor::from_vec(v, var.as_tensor().dims(), &Device::Cpu).unwrap())
-                .unwrap();
-            let s = net
-                .forward_t(&x, false)
-                .unwrap()
-                .sum_all()
-                .unwrap()
-                .to_scalar::<f32>()
-                .unwrap();
-            f64::from(s)
-        };
-        let numeric = (eval(eps) - eval(-eps)) / (2.0 * f64::from(eps));
-        var.set(&Tensor::from_vec(base.clone(), var.as_tensor().dims(), &Device::Cpu).unwrap())
-            .unwrap();
-        let analytic = f64::from(gv[i]);
-        let err = (numeric - analytic).abs() / numeric.abs().max(analytic.abs()).max(1.0);
-        assert!(
-            err < 2e-2,
-            "{name}[{i}]: numeric {numeric}, analytic {analytic}"
-        );
-    }
+            .sum_all()?
+            .to_scalar::<f32>()?;
+        Ok(f64::from(s))
+    };
+    let grads = net
+        .forward_t(&x, false)
+        .unwrap()
+        .sum_all()
+        .unwrap()
+        .backward()
+        .unwrap();
+    let params = vars::trainable_vars(&varmap, |n| n.starts_with("norm."));
+    assert!(grads.get(&x).is_none(), "the data needs no gradient");
+    check_parameter_gradients(&params, &loss, &grads, 1e-3, 2e-2, 2e-2).unwrap();
 }
 
 #[test]
 fn phase_tree_gradients_are_exact() {
-    let cfg = Config::default();
-    let varmap = VarMap::new();
-    let net = BowingNet::new(
-        &cfg,
-        VarBuilder::from_varmap(&varmap, DType::F32, &Device::Cpu),
-    )
-    .unwrap();
-    store::init_seeded(&varmap, 4, |n, d| {
-        (!n.starts_with("norm."))
-            .then(|| (6.0 / d.iter().skip(1).product::<usize>().max(1) as f64).sqrt())
-    })
-    .unwrap();
+    let (varmap, net) = random_net(4);
     let x = (random(&[2, 60 + 16 + 7, 128], 10) * 3.0).unwrap();
     check_grad_eps(
         &x,
@@ -274,60 +205,21 @@ fn phase_tree_gradients_are_exact() {
         2e-2,
         1e-3,
     );
-    let logits = net.sequence_logits(&x, false).unwrap();
-    let proj = random(logits.dims(), 5);
-    let grads = (logits * &proj)
+    let proj = random(net.sequence_logits(&x, false).unwrap().dims(), 5);
+    let loss = || {
+        let s = (net.sequence_logits(&x, false).unwrap() * &proj)?
+            .sum_all()?
+            .to_scalar::<f32>()?;
+        Ok(f64::from(s))
+    };
+    let grads = (net.sequence_logits(&x, false).unwrap() * &proj)
         .unwrap()
         .sum_all()
         .unwrap()
         .backward()
         .unwrap();
-    for (name, var) in store::trainable_vars(&varmap, |n| n.starts_with("norm.")) {
-        let gv = grads
-            .get(var.as_tensor())
-            .unwrap()
-            .flatten_all()
-            .unwrap()
-            .to_vec1::<f32>()
-            .unwrap();
-        let base = var
-            .as_tensor()
-            .flatten_all()
-            .unwrap()
-            .to_vec1::<f32>()
-            .unwrap();
-        let i = gv
-            .iter()
-            .enumerate()
-            .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
-            .unwrap()
-            .0;
-        let eps = 1e-3f32;
-        let eval = |d: f32| {
-            let mut v = base.clone();
-            v[i] += d;
-            var.set(&Tensor::from_vec(v, var.as_tensor().dims(), &Device::Cpu).unwrap())
-                .unwrap();
-            let l = net.sequence_logits(&x, false).unwrap();
-            f64::from(
-                (l * &proj)
-                    .unwrap()
-                    .sum_all()
-                    .unwrap()
-                    .to_scalar::<f32>()
-                    .unwrap(),
-            )
-        };
-        let numeric = (eval(eps) - eval(-eps)) / (2.0 * f64::from(eps));
-        var.set(&Tensor::from_vec(base.clone(), var.as_tensor().dims(), &Device::Cpu).unwrap())
-            .unwrap();
-        let analytic = f64::from(gv[i]);
-        let err = (numeric - analytic).abs() / numeric.abs().max(analytic.abs()).max(1.0);
-        assert!(
-            err < 2e-2,
-            "{name}[{i}]: numeric {numeric}, analytic {analytic}"
-        );
-    }
+    let params = vars::trainable_vars(&varmap, |n| n.starts_with("norm."));
+    check_parameter_gradients(&params, &loss, &grads, 1e-3, 2e-2, 2e-2).unwrap();
 }
 
 /// Distinct values 0.05 apart in shuffled order: no two inputs of a pool cell are within
@@ -343,17 +235,71 @@ fn separated(shape: &[usize], seed: u64) -> Tensor {
 }
 
 #[test]
-fn pools_of_shared_inputs_concatenated_have_exact_gradients() {
-    // The phase tree's pattern: two pool alignments of one tensor, stacked on the batch axis.
-    let y = separated(&[2, 9, 6, 3], 21);
-    check_grad(
-        &y,
-        &|y| {
-            let even = max_pool2x2_nhwc(&y.narrow(1, 0, 8).unwrap()).unwrap();
-            let odd = max_pool2x2_nhwc(&y.narrow(1, 1, 8).unwrap()).unwrap();
-            Tensor::cat(&[&even, &odd], 0).unwrap()
-        },
-        324,
-        1e-3,
-    );
+fn fused_conv_relu_equals_conv_then_relu_with_exact_gradients() {
+    let x = random(&[2, 7, 8, 3], 31);
+    let w = random(&[4, 3, 3, 3], 32);
+    let b = random(&[4], 33);
+    for pad in [0usize, 1] {
+        let fused = conv2d_relu_nhwc(&x, &w, &b, (pad, pad)).unwrap();
+        let reference = conv2d_nhwc(&x, &w, &b, (pad, pad)).unwrap().relu().unwrap();
+        assert!(max_abs_diff(&fused, &reference) < 1e-6);
+        // Gradients equal those of conv (checked against finite differences above) → relu
+        // (candle's); finite differences themselves would straddle the kink at 0.
+        let (xv, wv, bv) = (
+            Var::from_tensor(&x).unwrap(),
+            Var::from_tensor(&w).unwrap(),
+            Var::from_tensor(&b).unwrap(),
+        );
+        let proj = random(fused.dims(), 34);
+        let grads = |y: Tensor| (y * &proj).unwrap().sum_all().unwrap().backward().unwrap();
+        let (xt, wt, bt) = (xv.as_tensor(), wv.as_tensor(), bv.as_tensor());
+        let g1 = grads(conv2d_relu_nhwc(xt, wt, bt, (pad, pad)).unwrap());
+        let g2 = grads(conv2d_nhwc(xt, wt, bt, (pad, pad)).unwrap().relu().unwrap());
+        for t in [xt, wt, bt] {
+            assert!(max_abs_diff(g1.get(t).unwrap(), g2.get(t).unwrap()) < 1e-5);
+        }
+    }
+}
+
+#[test]
+fn conv_skips_the_input_gradient_only_when_the_input_needs_none() {
+    let x = random(&[1, 6, 6, 2], 34);
+    let w = Var::from_tensor(&random(&[2, 2, 3, 3], 35)).unwrap();
+    let b = Var::from_tensor(&random(&[2], 36)).unwrap();
+    let grads = conv2d_nhwc(&x, w.as_tensor(), b.as_tensor(), (1, 1))
+        .unwrap()
+        .sum_all()
+        .unwrap()
+        .backward()
+        .unwrap();
+    assert!(grads.get(&x).is_none());
+    assert!(grads.get(w.as_tensor()).is_some() && grads.get(b.as_tensor()).is_some());
+    let xv = Var::from_tensor(&x).unwrap();
+    let grads = conv2d_nhwc(xv.as_tensor(), w.as_tensor(), b.as_tensor(), (1, 1))
+        .unwrap()
+        .sum_all()
+        .unwrap()
+        .backward()
+        .unwrap();
+    assert_eq!(grads.get(xv.as_tensor()).unwrap().dims(), &[1, 6, 6, 2]);
+}
+
+#[test]
+fn phase_pool_equals_two_pools_concatenated_with_exact_gradients() {
+    for h in [9usize, 10] {
+        let y = separated(&[2, h, 7, 3], 37 + h as u64);
+        let k = (h - 1) / 2;
+        let reference = Tensor::cat(
+            &[
+                &max_pool2x2_nhwc(&y.narrow(1, 0, 2 * k).unwrap()).unwrap(),
+                &max_pool2x2_nhwc(&y.narrow(1, 1, 2 * k).unwrap()).unwrap(),
+            ],
+            0,
+        )
+        .unwrap();
+        let fused = pool_phases_nhwc(&y).unwrap();
+        assert_eq!(fused.dims(), &[4, k, 3, 3]);
+        assert_eq!(max_abs_diff(&fused, &reference), 0.0);
+        check_grad(&y, &|y| pool_phases_nhwc(y).unwrap(), 400, 1e-3);
+    }
 }

@@ -2,31 +2,14 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use bowing_net::infer::{frame_probabilities, frame_probabilities_per_window, TILE_WINDOWS};
-use bowing_net::nn::store;
+use bowing_net::model::WeightInit;
 use bowing_net::{BowingNet, Config};
-use candle_core::{DType, Device};
-use candle_nn::{VarBuilder, VarMap};
+use candle_nn::VarMap;
 use corpus::rng::Rng;
 use ndarray::Array2;
 
 fn random_net(seed: u64) -> (VarMap, BowingNet) {
-    let varmap = VarMap::new();
-    let net = BowingNet::new(
-        &Config::default(),
-        VarBuilder::from_varmap(&varmap, DType::F32, &Device::Cpu),
-    )
-    .unwrap();
-    store::init_seeded(&varmap, seed, |n, d| {
-        if n == "norm.mean" {
-            Some(0.0)
-        } else if n == "norm.std" {
-            None
-        } else {
-            Some((6.0 / d.iter().skip(1).product::<usize>().max(1) as f64).sqrt())
-        }
-    })
-    .unwrap();
-    (varmap, net)
+    BowingNet::seeded(&Config::default(), WeightInit::HeUniform, seed).unwrap()
 }
 
 fn random_mel(frames: usize, seed: u64) -> Array2<f32> {

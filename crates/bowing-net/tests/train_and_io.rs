@@ -5,13 +5,12 @@
 use std::path::Path;
 
 use bowing_net::data::{load_dataset, load_urmp, Recording, Splits};
-use bowing_net::nn::store;
-use bowing_net::train::checkpoint_path;
 use bowing_net::{BowChangeDetector, TrainConfig};
 use corpus::build::{build_corpus, CorpusConfig};
 use corpus::etude::EtudeConfig;
 use corpus::rng::Rng;
 use ndarray::Array2;
+use net_store::checkpoint_path;
 use skeleton::{Joint, PoseLayout};
 
 /// Noise with a loud broadband click at every change: learnable in a few steps.
@@ -286,12 +285,12 @@ fn weights_round_trip_and_bad_files_are_rejected() {
     );
 
     // Same tensors, other version / other network / shapes that do not fit the config.
-    let file = store::decode(&bytes, &path).unwrap();
+    let file = net_store::file::decode(&bytes, &path).unwrap();
     let tensors: Vec<_> = file.tensors.clone().into_iter().collect();
     let rewrite = |key: &str, value: &str| {
         let mut meta = file.metadata.clone();
         meta.insert(key.to_string(), value.to_string());
-        store::encode(&tensors, meta).unwrap()
+        net_store::file::encode(&tensors, meta).unwrap()
     };
     let e = BowChangeDetector::from_bytes(&rewrite("format_version", "99"), Path::new("v.st"))
         .unwrap_err()

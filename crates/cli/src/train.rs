@@ -24,7 +24,7 @@ pub enum Network {
 /// Arguments of `train`.
 #[derive(Debug, Args)]
 #[command(
-    after_help = "Examples:\n  violin-skeleton train bowing --data corpus --out bowing.safetensors\n  violin-skeleton train emotion --data DEAM --out emotion.safetensors --epochs 40 --seed 2\n  violin-skeleton train gru --data corpus --out gru.safetensors --unweighted --epochs 20\n  violin-skeleton train bowing --data corpus --out bowing.safetensors --resume\n\nThe data folder's layout is recognised: a corpus (manifest.json, from `violin-skeleton corpus`),\nURMP (AuSep_K_vn_NAME.wav + openpose_K_vn_NAME/ per track; bowing and gru) or DEAM\n(annotations/… + MEMD_audio/; emotion only). The best weights so far are kept in --out and a\ncheckpoint beside it (NAME.ckpt.safetensors) after every epoch; --resume continues from it.\nAt the end the test split is evaluated and summarised."
+    after_help = "Examples:\n  violin-skeleton train bowing --data corpus --out bowing.safetensors\n  violin-skeleton train emotion --data DEAM --out emotion.safetensors --epochs 40 --seed 2\n  violin-skeleton train gru --data corpus --out gru.safetensors --unweighted --epochs 20\n  violin-skeleton train bowing --data corpus --out bowing.safetensors --resume\n  violin-skeleton train bowing --data corpus --out b.safetensors --config settings.json\n\nThe data folder's layout is recognised: a corpus (manifest.json, from `violin-skeleton corpus`),\nURMP (AuSep_K_vn_NAME.wav + openpose_K_vn_NAME/ per track; bowing and gru) or DEAM\n(annotations/… + MEMD_audio/; emotion only). The best weights so far are kept in --out and a\ncheckpoint beside it (NAME.ckpt.safetensors) after every epoch; --resume continues from it.\nAt the end the test split is evaluated and summarised."
 )]
 pub struct TrainArgs {
     /// The network.
@@ -45,6 +45,10 @@ pub struct TrainArgs {
     /// Seed of initialisation, order and dropout.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// bowing, emotion: training settings as JSON, any fields of the network's `TrainConfig`
+    /// (e.g. {"learning_rate": 0.002, "patience": 6}); --epochs and --seed override it.
+    #[arg(long)]
+    pub config: Option<PathBuf>,
     /// Also write the test-split evaluation as JSON here.
     #[arg(long)]
     pub report: Option<PathBuf>,
@@ -72,6 +76,11 @@ pub fn run(args: &TrainArgs, report: &Reporter) -> Result<(), CliError> {
             });
         }
     }
+    if args.config.is_some() && args.network == Network::Gru {
+        return Err(CliError::Usage(
+            "--config applies to bowing and emotion; gru takes its settings as flags".into(),
+        ));
+    }
     limit_candle_threads();
     match args.network {
         Network::Bowing => train_bowing(args, report),
@@ -87,6 +96,22 @@ fn limit_candle_threads() {
     if std::env::var_os("CANDLE_NUM_THREADS").is_none() {
         std::env::set_var("CANDLE_NUM_THREADS", "1");
     }
+}
+
+/// The training settings: `--config` (or the defaults), then `--epochs` and `--seed`.
+fn read_config<T: serde::de::DeserializeOwned + Default>(args: &TrainArgs) -> Result<T, CliError> {
+    let Some(path) = &args.config else {
+        return Ok(T::default());
+    };
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| CliError::Usage(format!("--config {}: cannot read ({e})", path.display())))?;
+    serde_json::from_str(&text).map_err(|e| {
+        CliError::Usage(format!(
+            "--config {}: not {:?} training settings ({e})",
+            path.display(),
+            args.network
+        ))
+    })
 }
 
 /// A loading bar fed by a library's `(done, total)` callback.
@@ -110,7 +135,7 @@ fn train_bowing(args: &TrainArgs, report: &Reporter) -> Result<(), CliError> {
         data.test.len(),
         t0.elapsed().as_secs_f64()
     ));
-    let defaults = TrainConfig::default();
+    let defaults: TrainConfig = read_config(args)?;
     let cfg = TrainConfig {
         epochs: args.epochs.unwrap_or(defaults.epochs),
         seed: args.seed,
@@ -126,9 +151,10 @@ fn train_bowing(args: &TrainArgs, report: &Reporter) -> Result<(), CliError> {
         bar.set_length(p.steps as u64);
         bar.set_position(p.step as u64);
         let msg = format!(
-            "epoch {}/{} loss {:.4} val F1 {} (best {:.3})",
+            "epoch {}/{} ({:.0} s) loss {:.4} val F1 {} (best {:.3})",
             p.epoch + 1,
             p.epochs,
+            p.elapsed_s,
             p.loss,
             last_f1,
             p.best_f1
@@ -178,7 +204,7 @@ fn train_emotion(args: &TrainArgs, report: &Reporter) -> Result<(), CliError> {
         data.test.len(),
         t0.elapsed().as_secs_f64()
     ));
-    let defaults = emotion_net::TrainConfig::default();
+    let defaults: emotion_net::TrainConfig = read_config(args)?;
     let cfg = emotion_net::TrainConfig {
         epochs: args.epochs.unwrap_or(defaults.epochs),
         seed: args.seed,
@@ -194,9 +220,10 @@ fn train_emotion(args: &TrainArgs, report: &Reporter) -> Result<(), CliError> {
         bar.set_length(p.steps as u64);
         bar.set_position(p.step as u64);
         let msg = format!(
-            "epoch {}/{} loss {:.4} val r {} (best {:.3})",
+            "epoch {}/{} ({:.0} s) loss {:.4} val r {} (best {:.3})",
             p.epoch + 1,
             p.epochs,
+            p.elapsed_s,
             p.loss,
             last_r,
             p.best_r
@@ -277,4 +304,68 @@ pub fn write_json<T: serde::Serialize>(path: &Path, value: &T) -> Result<(), Cli
     crate::output::write_atomically(path, |w| {
         w.write_all(text.as_bytes()).map_err(|e| e.to_string())
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn args(network: Network, config: Option<PathBuf>) -> TrainArgs {
+        TrainArgs {
+            network,
+            data: PathBuf::from("data"),
+            out: PathBuf::from("out.safetensors"),
+            epochs: None,
+            resume: false,
+            seed: 1,
+            report: None,
+            weighted: false,
+            unweighted: false,
+            config,
+        }
+    }
+
+    #[test]
+    fn config_files_fill_the_settings_and_bad_ones_are_usage_errors() {
+        let dir = tempfile::tempdir().unwrap();
+        let good = dir.path().join("settings.json");
+        std::fs::write(&good, r#"{"learning_rate": 0.001, "patience": 9}"#).unwrap();
+        let cfg: TrainConfig = read_config(&args(Network::Bowing, Some(good.clone()))).unwrap();
+        assert_eq!((cfg.learning_rate, cfg.patience), (0.001, 9));
+        assert_eq!(cfg.epochs, TrainConfig::default().epochs);
+        let cfg: emotion_net::TrainConfig =
+            read_config(&args(Network::Emotion, Some(good))).unwrap();
+        assert_eq!(cfg.patience, 9);
+        let none: TrainConfig = read_config(&args(Network::Bowing, None)).unwrap();
+        assert_eq!(none, TrainConfig::default());
+
+        let typo = dir.path().join("typo.json");
+        std::fs::write(&typo, r#"{"learning_rat": 0.001}"#).unwrap();
+        let e = read_config::<TrainConfig>(&args(Network::Bowing, Some(typo)))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("typo.json") && e.contains("learning_rat"), "{e}");
+        let broken = dir.path().join("broken.json");
+        std::fs::write(&broken, "{").unwrap();
+        let e = read_config::<TrainConfig>(&args(Network::Bowing, Some(broken)))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("broken.json"), "{e}");
+        let e = read_config::<TrainConfig>(&args(
+            Network::Bowing,
+            Some(dir.path().join("missing.json")),
+        ))
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("missing.json") && e.contains("cannot read"), "{e}");
+    }
+
+    #[test]
+    fn gru_refuses_a_config_file() {
+        let report = Reporter { quiet: true };
+        let e = run(&args(Network::Gru, Some(PathBuf::from("s.json"))), &report)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("--config"), "{e}");
+    }
 }

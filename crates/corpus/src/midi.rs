@@ -182,7 +182,7 @@ pub fn timeline_from_midi(bytes: &[u8]) -> Result<Timeline, CorpusError> {
     }
     let notes = assign_bowing(notes, &downbeats_s);
     let duration_s = notes.last().map_or(0.0, |n| n.offset_s) + TAIL_S;
-    let arousal_2hz = arousal_proxy(&notes, &|t| map.bpm_at_s(t), duration_s);
+    let arousal_2hz = arousal_proxy(&notes, duration_s);
     Ok(Timeline {
         duration_s,
         tempo_bpm: map.bpm_at_s(0.0),

@@ -129,7 +129,7 @@ pub fn play(etude: &Etude, seed: u64) -> Timeline {
         .collect();
     let downbeats_s: Vec<f64> = beats_s.iter().step_by(bpb).copied().collect();
     let duration_s = clock.seconds(total_beats) + TAIL_S;
-    let arousal_2hz = arousal_proxy(&notes, &|t| clock.tempo_at_s(t), duration_s);
+    let arousal_2hz = arousal_proxy(&notes, duration_s);
     Timeline {
         duration_s,
         notes,
@@ -144,8 +144,6 @@ pub fn play(etude: &Etude, seed: u64) -> Timeline {
 struct BeatClock {
     /// Seconds at each 1/48 beat.
     table: Vec<f64>,
-    tempo_bpm: f64,
-    rubato: Rubato,
 }
 
 const STEPS_PER_BEAT: f64 = 48.0;
@@ -160,11 +158,7 @@ impl BeatClock {
             let mid = (i as f64 + 0.5) / STEPS_PER_BEAT;
             t += 60.0 / (tempo_bpm * rubato.factor(mid)) / STEPS_PER_BEAT;
         }
-        Self {
-            table,
-            tempo_bpm,
-            rubato,
-        }
+        Self { table }
     }
 
     fn seconds(&self, beat: f64) -> f64 {
@@ -173,43 +167,64 @@ impl BeatClock {
         let frac = x - i as f64;
         self.table[i] + frac * (self.table[i + 1] - self.table[i])
     }
-
-    /// Local tempo in bpm at a time in seconds.
-    fn tempo_at_s(&self, t: f64) -> f64 {
-        let i = self.table.partition_point(|&s| s < t);
-        self.tempo_bpm * self.rubato.factor(i as f64 / STEPS_PER_BEAT)
-    }
 }
 
 /// The arousal proxy at 2 Hz, in [-1, 1]: a documented stand-in for a listener's arousal
-/// built from the correlates music-emotion research reports for it — loudness, tempo and
-/// event density (Gabrielsson & Lindström 2010; Eerola & Vuoskoski 2013):
+/// built from the correlates music-emotion research reports for it — loudness and event
+/// density (Gabrielsson & Lindström 2010; Eerola & Vuoskoski 2013) — as far as they can be
+/// heard in each half second:
 ///
-/// `a(t) = tanh(1.8·(d(t) − 0.45) + 0.9·(tempo(t) − 110)/60 + 0.5·(ρ(t) − 3)/3)`
+/// `a(k) = tanh(1.8·(d̄(k) − 0.45) + 0.5·(ρ(k) − 3)/3)`
 ///
-/// where `d` is the dynamic of the sounding note (0 in rests), `tempo` the local tempo in
-/// bpm, and `ρ` the note onsets per second in a 2 s window; then smoothed with a
-/// [1, 2, 1]/4 kernel so it moves like DEAM's annotations.
-pub fn arousal_proxy(
-    notes: &[TimedNote],
-    tempo_bpm_at_s: &dyn Fn(f64) -> f64,
-    duration_s: f64,
-) -> Vec<f32> {
+/// where `d̄` is the mean over the half second `[0.5k, 0.5k + 0.5)` of the dynamic of the
+/// sounding note (0 where nothing sounds) and `ρ` the note onsets per second in the 2 s
+/// around its centre; then smoothed with a [1, 2, 1]/4 kernel so it moves like DEAM's
+/// annotations. (Version 1 sampled the dynamic at the frame's centre — a 30 ms gap between
+/// détaché notes then read as silence — and added `0.9·(tempo − 110)/60` from the score's
+/// bpm, which half-second frames cannot show: the speed they can hear is the event rate
+/// `ρ`. See emotion-net's README.)
+pub fn arousal_proxy(notes: &[TimedNote], duration_s: f64) -> Vec<f32> {
+    let spans: Vec<(f64, f64, f32)> = notes
+        .iter()
+        .map(|n| (n.onset_s, n.offset_s, n.dynamic))
+        .collect();
+    arousal_proxy_of_spans(&spans, duration_s)
+}
+
+/// [`arousal_proxy`] of sounding spans `(onset_s, offset_s, dynamic 0..=1)` in onset order
+/// (e.g. a `Performance`'s notes and dynamics).
+///
+/// ```
+/// // 4 s of quarter notes at 120 bpm, forte, then 2 s of silence.
+/// let spans: Vec<(f64, f64, f32)> = (0..8).map(|i| (i as f64 * 0.5, i as f64 * 0.5 + 0.45, 0.8)).collect();
+/// let a = corpus::timing::arousal_proxy_of_spans(&spans, 6.0);
+/// assert_eq!(a.len(), 12);
+/// assert!(a[3] > 0.3 && a[11] < -0.5);
+/// ```
+pub fn arousal_proxy_of_spans(spans: &[(f64, f64, f32)], duration_s: f64) -> Vec<f32> {
+    const SAMPLES_PER_FRAME: usize = 50;
     let n = (duration_s * 2.0).ceil() as usize;
+    if n == 0 {
+        return Vec::new();
+    }
+    // The louder sounding level every 10 ms (0 in silence).
+    let mut level = vec![0.0f64; n * SAMPLES_PER_FRAME];
+    let per_s = 2.0 * SAMPLES_PER_FRAME as f64;
+    for &(on, off, dynamic) in spans {
+        let first = (on * per_s).ceil().max(0.0) as usize;
+        let last = ((off * per_s).ceil().max(0.0) as usize).min(level.len());
+        for v in level.iter_mut().take(last).skip(first) {
+            *v = v.max(f64::from(dynamic));
+        }
+    }
+    let onsets: Vec<f64> = spans.iter().map(|s| s.0).collect();
     let raw: Vec<f64> = (0..n)
         .map(|k| {
+            let frame = &level[k * SAMPLES_PER_FRAME..(k + 1) * SAMPLES_PER_FRAME];
+            let d = frame.iter().sum::<f64>() / SAMPLES_PER_FRAME as f64;
             let t = k as f64 * 0.5 + 0.25;
-            let d = notes
-                .iter()
-                .find(|m| m.onset_s <= t && t < m.offset_s)
-                .map_or(0.0, |m| f64::from(m.dynamic));
-            let density = notes
-                .iter()
-                .filter(|m| (m.onset_s - t).abs() <= 1.0)
-                .count() as f64
-                / 2.0;
-            let tempo = tempo_bpm_at_s(t);
-            (1.8 * (d - 0.45) + 0.9 * (tempo - 110.0) / 60.0 + 0.5 * (density - 3.0) / 3.0).tanh()
+            let density = onsets.iter().filter(|&&o| (o - t).abs() <= 1.0).count() as f64 / 2.0;
+            (1.8 * (d - 0.45) + 0.5 * (density - 3.0) / 3.0).tanh()
         })
         .collect();
     (0..n)

@@ -2,7 +2,7 @@
 //! split with `--test`) and prints Pearson r and RMSE as JSON.
 //!
 //! ```sh
-//! cargo run --release -p emotion-net --example evaluate -- DATA_DIR [WEIGHTS] [--test]
+//! cargo run --release -p emotion-net --example evaluate_arousal -- DATA_DIR [WEIGHTS] [--test]
 //! ```
 
 use std::path::PathBuf;

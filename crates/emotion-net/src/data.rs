@@ -1,7 +1,11 @@
 //! Arousal-labelled recordings: the synthetic corpus's arousal proxy (default) or DEAM.
 //!
-//! **Corpus layout**: `DIR/manifest.json` + `DIR/items/NNNNN/{audio.wav, arousal.csv}`
-//! (`time_s,arousal` at 2 Hz from 0 s); splits from the manifest.
+//! **Corpus layout**: `DIR/manifest.json` + `DIR/items/NNNNN/{audio.wav, performance.json,
+//! arousal.csv}`; splits from the manifest. The target is the corpus's arousal proxy,
+//! recomputed from the item's notes and dynamics (`performance.json`) with
+//! [`corpus::timing::arousal_proxy_of_spans`], so corpora written before the proxy's change
+//! train on the current definition; [`CorpusTarget::File`] reads `arousal.csv` (`time_s,
+//! arousal` at 2 Hz from 0 s) as written instead.
 //!
 //! **DEAM layout**: `DIR/annotations/annotations averaged per song/dynamic (per second
 //! annotations)/arousal.csv` in DEAM's wide format (`song_id,sample_15000ms,sample_15500ms,…`,
@@ -62,10 +66,22 @@ impl ArousalSplits {
     }
 }
 
-/// Loads a data folder by its layout: `manifest.json` → corpus, else DEAM.
+/// Where a corpus item's arousal targets come from.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CorpusTarget {
+    /// The corpus's current arousal proxy, recomputed from `performance.json`.
+    #[default]
+    Proxy,
+    /// `arousal.csv` as the corpus wrote it.
+    File,
+}
+
+/// Loads a data folder by its layout: `manifest.json` → corpus (the recomputed proxy),
+/// else DEAM.
 pub fn load_dataset(dir: &Path, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<ArousalSplits> {
     if dir.join("manifest.json").is_file() {
-        load_corpus(dir, progress)
+        load_corpus_with(dir, CorpusTarget::Proxy, progress)
     } else {
         load_deam(dir, progress)
     }
@@ -119,8 +135,41 @@ pub fn read_corpus_arousal(path: &Path) -> Result<Vec<f32>> {
     Ok(out)
 }
 
+/// The corpus's arousal proxy (2 Hz from 0 s) of an item, from its `performance.json`
+/// (notes and per-note dynamics).
+pub fn corpus_proxy(item_dir: &Path) -> Result<Vec<f32>> {
+    let path = item_dir.join("performance.json");
+    let perf = motion_synth::Performance::read_json(&path)
+        .map_err(|e| NetError::data(&path, format!("cannot read the performance ({e})")))?;
+    let dynamics = perf.dynamics().ok_or_else(|| {
+        NetError::data(
+            &path,
+            "the performance has no per-note dynamics: rebuild the corpus or use arousal.csv",
+        )
+    })?;
+    let spans: Vec<(f64, f64, f32)> = perf
+        .notes()
+        .iter()
+        .zip(dynamics)
+        .map(|(n, &d)| (n.onset_s, n.offset_s, d))
+        .collect();
+    Ok(corpus::timing::arousal_proxy_of_spans(
+        &spans,
+        perf.duration_s(),
+    ))
+}
+
 /// Loads the corpus's audio and arousal proxy by the manifest's splits.
 pub fn load_corpus(dir: &Path, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<ArousalSplits> {
+    load_corpus_with(dir, CorpusTarget::Proxy, progress)
+}
+
+/// Loads the corpus's audio and the `target` arousal by the manifest's splits.
+pub fn load_corpus_with(
+    dir: &Path,
+    target: CorpusTarget,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<ArousalSplits> {
     let manifest = read_manifest(dir)?;
     let total = manifest.items.len();
     if total == 0 {
@@ -141,7 +190,10 @@ pub fn load_corpus(dir: &Path, progress: &(dyn Fn(usize, usize) + Sync)) -> Resu
                 group: group.into(),
                 mel_db: emotion_mel_of_file(&d.join("audio.wav"))?,
                 first_frame: 0,
-                arousal: read_corpus_arousal(&d.join("arousal.csv"))?,
+                arousal: match target {
+                    CorpusTarget::Proxy => corpus_proxy(&d)?,
+                    CorpusTarget::File => read_corpus_arousal(&d.join("arousal.csv"))?,
+                },
             });
             progress(
                 done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1,

@@ -7,6 +7,9 @@ pub enum EmotionError {
     /// `nn` building blocks and weights files).
     #[error(transparent)]
     Net(#[from] bowing_net::NetError),
+    /// A weights or checkpoint file could not be read, written or used.
+    #[error(transparent)]
+    Store(#[from] net_store::StoreError),
     /// A tensor operation failed.
     #[error("tensor operation failed: {0}")]
     Candle(#[from] candle_core::Error),

@@ -5,11 +5,12 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use bowing_net::features::check_mel;
-use bowing_net::nn::store::{self, TensorFile, KEY_FORMAT, KEY_VERSION};
 use bowing_net::NetError;
 use candle_core::{DType, Device, Tensor};
 use candle_nn::{VarBuilder, VarMap};
 use ndarray::ArrayView2;
+use net_store::file::{self, TensorFile};
+use net_store::vars;
 
 use crate::error::Result;
 use crate::features::emotion_mel;
@@ -45,7 +46,7 @@ pub fn expected_shapes(cfg: &Config) -> Result<Vec<(String, Vec<usize>)>> {
         cfg,
         VarBuilder::from_varmap(&varmap, DType::F32, &Device::Cpu),
     )?;
-    Ok(store::var_shapes(&varmap))
+    Ok(vars::var_shapes(&varmap))
 }
 
 impl ArousalEstimator {
@@ -57,25 +58,19 @@ impl ArousalEstimator {
     /// Reads weights written by [`ArousalEstimator::save`]; rejects other networks, other
     /// format versions and tensors whose shapes do not match the stored configuration.
     pub fn load(path: &Path) -> Result<Self> {
-        Self::from_file(store::read(path)?, path)
+        Self::from_file(file::read(path)?, path)
     }
 
     /// [`ArousalEstimator::load`] from bytes; `path` names them in errors.
     pub fn from_bytes(bytes: &[u8], path: &Path) -> Result<Self> {
-        Self::from_file(store::decode(bytes, path)?, path)
+        Self::from_file(file::decode(bytes, path)?, path)
     }
 
     fn from_file(file: TensorFile, path: &Path) -> Result<Self> {
         file.check_format(path, FORMAT_NAME, FORMAT_VERSION)?;
-        let cfg: Config = serde_json::from_str(file.meta("config", path)?)
-            .map_err(|e| NetError::weights(path, format!("bad \"config\" metadata ({e})")))?;
+        let cfg: Config = file.meta_json("config", path)?;
         cfg.validate().map_err(|e| NetError::weights(path, e))?;
-        let expected = expected_shapes(&cfg)?;
-        file.check_shapes(path, &expected)?;
-        let tensors = expected
-            .iter()
-            .filter_map(|(n, _)| file.tensors.get(n).map(|t| (n.clone(), t.clone())))
-            .collect();
+        let tensors = file.take_expected(path, &expected_shapes(&cfg)?)?;
         let training = file.metadata.get("training").cloned().unwrap_or_default();
         Self::from_tensors(&cfg, tensors, training)
     }
@@ -97,19 +92,20 @@ impl ArousalEstimator {
 
     /// Writes the weights file (through a temporary file).
     pub fn save(&self, path: &Path) -> Result<()> {
-        Ok(store::write_atomically(path, &self.to_bytes()?)?)
+        Ok(file::write_atomically(path, &self.to_bytes()?)?)
     }
 
     /// The weights file's bytes.
     pub fn to_bytes(&self) -> Result<Vec<u8>> {
-        let mut meta = HashMap::new();
-        meta.insert(KEY_FORMAT.to_string(), FORMAT_NAME.to_string());
-        meta.insert(KEY_VERSION.to_string(), FORMAT_VERSION.to_string());
-        let cfg = serde_json::to_string(self.net.config())
-            .map_err(|e| NetError::Config(e.to_string()))?;
-        meta.insert("config".into(), cfg);
-        meta.insert("training".into(), self.training.clone());
-        Ok(store::encode(&self.tensors, meta)?)
+        let meta = file::metadata(
+            FORMAT_NAME,
+            FORMAT_VERSION,
+            &[
+                ("config", file::to_json(self.net.config())?),
+                ("training", self.training.clone()),
+            ],
+        );
+        Ok(file::encode(&self.tensors, meta)?)
     }
 
     /// The network.

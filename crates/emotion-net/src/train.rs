@@ -1,19 +1,22 @@
 //! Training on arousal-labelled tracks: 20-step windows every `window_hop` frames over the
-//! annotated part of each training track, masked MSE, Adam (seeded initialisation, order and
-//! dropout), early stopping on the validation Pearson r of whole-track (overlap-averaged)
-//! predictions, best weights written to the output whenever they improve, and a checkpoint
-//! (`NAME.ckpt.safetensors`) after every epoch for `resume`.
+//! annotated part of each training track, masked MSE, Adam with a warm-up + cosine learning
+//! rate ([`LrSchedule`]; seeded initialisation, order and dropout), early stopping on the
+//! validation Pearson r of whole-track (overlap-averaged) predictions, best weights written to
+//! the output whenever they improve, and a checkpoint (`NAME.ckpt.safetensors`) after every
+//! epoch for `resume`.
 
 use std::collections::HashMap;
 use std::path::Path;
 use std::time::Instant;
 
-use bowing_net::nn::{store, Adam, AdamConfig};
-use bowing_net::train::checkpoint_path;
 use bowing_net::NetError;
 use candle_core::{DType, Device, Tensor};
 use candle_nn::{VarBuilder, VarMap};
 use corpus::rng::Rng;
+use net_store::{
+    band_statistics, checkpoint_path, load_checkpoint, save_checkpoint, vars, Adam, AdamConfig,
+    LrSchedule, TrainState,
+};
 use serde::{Deserialize, Serialize};
 
 use crate::data::{ArousalSplits, ArousalTrack};
@@ -22,9 +25,10 @@ use crate::estimator::{ArousalEstimator, FORMAT_VERSION};
 use crate::evaluate::score;
 use crate::model::{Config, EmotionNet};
 
-/// Training settings.
+/// Training settings (JSON: any subset of the fields; unknown fields are refused so that a
+/// typo is not silently ignored).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct TrainConfig {
     /// The network's shape.
     pub model: Config,
@@ -34,10 +38,10 @@ pub struct TrainConfig {
     pub patience: usize,
     /// Seed of initialisation, order and dropout.
     pub seed: u64,
-    /// Adam's initial learning rate.
+    /// Adam's peak learning rate.
     pub learning_rate: f64,
-    /// Learning-rate factor per epoch.
-    pub lr_decay_per_epoch: f64,
+    /// How the learning rate moves over the steps.
+    pub schedule: LrSchedule,
     /// Windows per step.
     pub batch_windows: usize,
     /// Frames between training windows.
@@ -52,11 +56,14 @@ impl Default for TrainConfig {
     fn default() -> Self {
         Self {
             model: Config::default(),
-            epochs: 60,
+            epochs: 40,
             patience: 10,
             seed: 1,
             learning_rate: 3e-3,
-            lr_decay_per_epoch: 0.97,
+            schedule: LrSchedule::WarmupCosine {
+                warmup_fraction: 0.03,
+                final_fraction: 0.02,
+            },
             batch_windows: 32,
             window_hop: 2,
             max_steps_per_epoch: None,
@@ -78,10 +85,14 @@ pub struct TrainProgress {
     pub steps: usize,
     /// Mean training loss (MSE) of this epoch so far.
     pub loss: f32,
+    /// The learning rate of the last step.
+    pub learning_rate: f64,
     /// Validation Pearson r of the epoch just finished (`None` during the epoch).
     pub val_r: Option<f64>,
     /// Best validation r so far.
     pub best_r: f64,
+    /// Seconds since this run started.
+    pub elapsed_s: f64,
 }
 
 /// The result of [`train`].
@@ -108,39 +119,6 @@ pub struct TrainReport {
 /// Format name of checkpoints.
 pub const CHECKPOINT_FORMAT: &str = "violin-skeleton/emotion-net-checkpoint";
 
-#[derive(Debug, Clone, Serialize, Deserialize)]
-struct CheckpointState {
-    next_epoch: usize,
-    best_r: f64,
-    best_epoch: usize,
-    since_best: usize,
-    epoch_losses: Vec<f32>,
-    model: Config,
-}
-
-fn band_statistics(tracks: &[ArousalTrack], bands: usize) -> (Vec<f32>, Vec<f32>) {
-    let mut sum = vec![0.0f64; bands];
-    let mut sq = vec![0.0f64; bands];
-    let mut n = 0usize;
-    for t in tracks {
-        for row in t.mel_db.rows() {
-            for (k, &v) in row.iter().enumerate().take(bands) {
-                sum[k] += f64::from(v);
-                sq[k] += f64::from(v).powi(2);
-            }
-            n += 1;
-        }
-    }
-    let n = n.max(1) as f64;
-    let mean = sum.iter().map(|s| (s / n) as f32).collect();
-    let std = sq
-        .iter()
-        .zip(&sum)
-        .map(|(q, s)| (q / n - (s / n).powi(2)).max(0.0).sqrt().max(1e-3) as f32)
-        .collect();
-    (mean, std)
-}
-
 fn check_tracks(tracks: &[ArousalTrack], what: &str, bands: usize) -> Result<()> {
     if tracks.iter().all(|t| t.arousal.is_empty()) {
         return Err(NetError::Input(format!(
@@ -162,7 +140,7 @@ fn check_tracks(tracks: &[ArousalTrack], what: &str, bands: usize) -> Result<()>
 /// running statistics taken from the network.
 fn model_tensors(varmap: &VarMap, net: &EmotionNet) -> Result<Vec<(String, Tensor)>> {
     let running: HashMap<String, Tensor> = net.running_stats().into_iter().collect();
-    store::var_tensors(varmap)
+    vars::var_tensors(varmap)
         .into_iter()
         .map(|(n, t)| {
             let t = running.get(&n).cloned().unwrap_or(t);
@@ -195,7 +173,7 @@ pub fn train(
         mcfg,
         VarBuilder::from_varmap(&varmap, DType::F32, &Device::Cpu),
     )?;
-    store::init_seeded(&varmap, cfg.seed, |name, dims| {
+    vars::init_seeded(&varmap, cfg.seed, |name, dims| {
         if name.starts_with("norm.")
             || name.contains("running_")
             || name.contains("gamma")
@@ -209,116 +187,78 @@ pub fn train(
             Some((3.0 / fan_in.max(1) as f64).sqrt())
         }
     })?;
-    let (mean, std) = band_statistics(&data.train, mcfg.n_mels);
-    let mut fixed = HashMap::new();
-    fixed.insert(
-        "norm.mean".to_string(),
-        Tensor::new(mean.as_slice(), &Device::Cpu)?,
-    );
-    fixed.insert(
-        "norm.std".to_string(),
-        Tensor::new(std.as_slice(), &Device::Cpu)?,
-    );
-    store_set(&varmap, &fixed)?;
+    let (mean, std) = band_statistics(data.train.iter().map(|t| t.mel_db.view()), mcfg.n_mels);
+    let fixed = HashMap::from([
+        (
+            "norm.mean".to_string(),
+            Tensor::new(mean.as_slice(), &Device::Cpu)?,
+        ),
+        (
+            "norm.std".to_string(),
+            Tensor::new(std.as_slice(), &Device::Cpu)?,
+        ),
+    ]);
+    vars::set_vars(&varmap, &fixed)?;
     let frozen = |n: &str| n.starts_with("norm.") || n.contains("running_");
     let mut adam = Adam::new(
-        store::trainable_vars(&varmap, frozen),
+        vars::trainable_vars(&varmap, frozen),
         AdamConfig {
             learning_rate: cfg.learning_rate,
             ..AdamConfig::default()
         },
     )?;
     let ckpt = checkpoint_path(out);
-    let mut state = CheckpointState {
-        next_epoch: 0,
-        best_r: -2.0,
-        best_epoch: 0,
-        since_best: 0,
-        epoch_losses: Vec::new(),
-        model: mcfg.clone(),
-    };
+    let mut state = TrainState::new(mcfg.clone(), -2.0);
     if resume {
-        let file = store::read(&ckpt)?;
-        file.check_format(&ckpt, CHECKPOINT_FORMAT, FORMAT_VERSION)?;
-        state = serde_json::from_str(file.meta("state", &ckpt)?)
-            .map_err(|e| NetError::weights(&ckpt, format!("bad \"state\" metadata ({e})")))?;
-        if &state.model != mcfg {
+        let (file, saved): (_, TrainState<Config>) =
+            load_checkpoint(&ckpt, CHECKPOINT_FORMAT, FORMAT_VERSION)?;
+        if &saved.model != mcfg {
             return Err(NetError::weights(
                 &ckpt,
                 "the checkpoint's network shape differs from the requested one",
             )
             .into());
         }
-        store::load_into(&varmap, &file.tensors, &ckpt)?;
+        vars::load_into(&varmap, &file.tensors, &ckpt)?;
         adam.load_state(&file.tensors)?;
+        state = saved;
     }
 
-    let t = mcfg.steps;
-    let bands = mcfg.n_mels;
     let pads: Vec<f32> = data
         .train
         .iter()
         .map(|tr| tr.mel_db.iter().copied().fold(f32::INFINITY, f32::min))
         .collect();
-    let mut windows: Vec<(usize, usize)> = Vec::new();
-    for (i, tr) in data.train.iter().enumerate() {
-        let (first, len) = (tr.first_frame, tr.arousal.len());
-        if len == 0 {
-            continue;
-        }
-        let last = first + len.saturating_sub(t);
-        let mut s = first;
-        while s <= last {
-            windows.push((i, s));
-            s += cfg.window_hop;
-        }
-        if (last - first) % cfg.window_hop != 0 {
-            windows.push((i, last));
-        }
-    }
+    let windows = training_windows(&data.train, mcfg.steps, cfg.window_hop);
+    let steps_per_epoch = windows
+        .len()
+        .div_ceil(cfg.batch_windows)
+        .min(cfg.max_steps_per_epoch.unwrap_or(usize::MAX));
     let mut stopped_early = false;
     let mut epoch = state.next_epoch;
     while epoch < cfg.epochs {
         let mut rng = Rng::new(cfg.seed).fork(epoch as u64 + 1);
         net.dropout_rng().reseed(rng.next_u64());
-        adam.config.learning_rate = cfg.learning_rate * cfg.lr_decay_per_epoch.powi(epoch as i32);
         let mut order = windows.clone();
         for i in (1..order.len()).rev() {
             let j = (rng.next_u64() % (i as u64 + 1)) as usize;
             order.swap(i, j);
         }
-        let mut steps = order.len().div_ceil(cfg.batch_windows);
-        if let Some(cap) = cfg.max_steps_per_epoch {
-            steps = steps.min(cap);
-        }
         let mut loss_sum = 0.0f64;
-        for (step, batch) in order.chunks(cfg.batch_windows).take(steps).enumerate() {
-            let b = batch.len();
-            let mut x = vec![0.0f32; b * t * bands];
-            let mut y = vec![0.0f32; b * t];
-            let mut mask = vec![0.0f32; b * t];
-            for (k, &(i, s)) in batch.iter().enumerate() {
-                let tr = &data.train[i];
-                bowing_net::infer::copy_frames(
-                    tr.mel_db.view(),
-                    s as isize,
-                    t,
-                    pads[i],
-                    &mut x[k * t * bands..][..t * bands],
-                );
-                for j in 0..t {
-                    if let Some(&a) = (s + j)
-                        .checked_sub(tr.first_frame)
-                        .and_then(|o| tr.arousal.get(o))
-                    {
-                        y[k * t + j] = a;
-                        mask[k * t + j] = 1.0;
-                    }
-                }
-            }
-            let xt = Tensor::from_vec(x, (b, t, bands), &Device::Cpu)?;
-            let yt = Tensor::from_vec(y, (b, t), &Device::Cpu)?;
-            let mt = Tensor::from_vec(mask, (b, t), &Device::Cpu)?;
+        let mut lr = cfg.learning_rate;
+        for (step, batch) in order
+            .chunks(cfg.batch_windows)
+            .take(steps_per_epoch)
+            .enumerate()
+        {
+            lr = cfg.schedule.rate(
+                cfg.learning_rate,
+                epoch * steps_per_epoch + step,
+                steps_per_epoch,
+                cfg.epochs,
+            );
+            adam.config.learning_rate = lr;
+            let (xt, yt, mt) = window_batch(&data.train, &pads, batch, mcfg)?;
             let pred = net.forward_t(&xt, true)?;
             let n = mt.sum_all()?.to_scalar::<f32>()?.max(1.0);
             let loss = ((pred - yt)?.sqr()? * &mt)?
@@ -337,37 +277,41 @@ pub fn train(
                 epoch,
                 epochs: cfg.epochs,
                 step: step + 1,
-                steps,
+                steps: steps_per_epoch,
                 loss: (loss_sum / (step + 1) as f64) as f32,
+                learning_rate: lr,
                 val_r: None,
-                best_r: state.best_r.max(0.0),
+                best_r: state.best_metric.max(0.0),
+                elapsed_s: started.elapsed().as_secs_f64(),
             });
         }
-        let epoch_loss = (loss_sum / steps.max(1) as f64) as f32;
-        state.epoch_losses.push(epoch_loss);
+        let epoch_loss = (loss_sum / steps_per_epoch.max(1) as f64) as f32;
         let (r, _) = score(&net, &data.val)?;
-        if r > state.best_r {
-            state.best_r = r;
-            state.best_epoch = epoch;
-            state.since_best = 0;
+        if state.end_epoch(epoch, epoch_loss, r) {
             ArousalEstimator::from_tensors(mcfg, model_tensors(&varmap, &net)?, String::new())?
                 .save(out)?;
-        } else {
-            state.since_best += 1;
         }
         progress(&TrainProgress {
             epoch,
             epochs: cfg.epochs,
-            step: steps,
-            steps,
+            step: steps_per_epoch,
+            steps: steps_per_epoch,
             loss: epoch_loss,
+            learning_rate: lr,
             val_r: Some(r),
-            best_r: state.best_r,
+            best_r: state.best_metric,
+            elapsed_s: started.elapsed().as_secs_f64(),
         });
         epoch += 1;
-        state.next_epoch = epoch;
-        save_checkpoint(&ckpt, &varmap, &net, &adam, &state)?;
-        if state.since_best >= cfg.patience {
+        save_checkpoint(
+            &ckpt,
+            CHECKPOINT_FORMAT,
+            FORMAT_VERSION,
+            model_tensors(&varmap, &net)?,
+            &adam,
+            &state,
+        )?;
+        if state.should_stop(cfg.patience) {
             stopped_early = true;
             break;
         }
@@ -376,7 +320,7 @@ pub fn train(
     let report = TrainReport {
         epochs_run: state.next_epoch,
         best_epoch: state.best_epoch,
-        best_val_r: state.best_r,
+        best_val_r: state.best_metric,
         epoch_losses: state.epoch_losses.clone(),
         stopped_early,
         train_tracks: data.train.len(),
@@ -399,37 +343,62 @@ pub fn train(
     Ok(report)
 }
 
-fn store_set(varmap: &VarMap, values: &HashMap<String, Tensor>) -> Result<()> {
-    let data = varmap
-        .data()
-        .lock()
-        .map_err(|_| NetError::Config("variable store poisoned".into()))?;
-    for (name, t) in values {
-        if let Some(v) = data.get(name) {
-            v.set(t)?;
+/// Every training window: `(track, first frame)`, `steps` frames every `hop` over the
+/// annotated part of each track (the last one aligned with its end).
+fn training_windows(tracks: &[ArousalTrack], steps: usize, hop: usize) -> Vec<(usize, usize)> {
+    let mut windows = Vec::new();
+    for (i, tr) in tracks.iter().enumerate() {
+        let (first, len) = (tr.first_frame, tr.arousal.len());
+        if len == 0 {
+            continue;
+        }
+        let last = first + len.saturating_sub(steps);
+        let mut s = first;
+        while s <= last {
+            windows.push((i, s));
+            s += hop;
+        }
+        if (last - first) % hop != 0 {
+            windows.push((i, last));
         }
     }
-    Ok(())
+    windows
 }
 
-fn save_checkpoint(
-    path: &Path,
-    varmap: &VarMap,
-    net: &EmotionNet,
-    adam: &Adam,
-    state: &CheckpointState,
-) -> Result<()> {
-    let mut tensors = model_tensors(varmap, net)?;
-    tensors.extend(adam.state()?);
-    let mut meta = HashMap::new();
-    meta.insert(store::KEY_FORMAT.to_string(), CHECKPOINT_FORMAT.to_string());
-    meta.insert(store::KEY_VERSION.to_string(), FORMAT_VERSION.to_string());
-    meta.insert(
-        "state".to_string(),
-        serde_json::to_string(state).map_err(|e| NetError::Config(e.to_string()))?,
-    );
-    Ok(store::write_atomically(
-        path,
-        &store::encode(&tensors, meta)?,
-    )?)
+/// Inputs `(b, steps, bands)`, targets `(b, steps)` and target mask `(b, steps)` of the
+/// windows `batch` (frames outside a track are its quietest value, unannotated steps masked).
+fn window_batch(
+    tracks: &[ArousalTrack],
+    pads: &[f32],
+    batch: &[(usize, usize)],
+    cfg: &Config,
+) -> Result<(Tensor, Tensor, Tensor)> {
+    let (t, bands, b) = (cfg.steps, cfg.n_mels, batch.len());
+    let mut x = vec![0.0f32; b * t * bands];
+    let mut y = vec![0.0f32; b * t];
+    let mut mask = vec![0.0f32; b * t];
+    for (k, &(i, s)) in batch.iter().enumerate() {
+        let tr = &tracks[i];
+        bowing_net::infer::copy_frames(
+            tr.mel_db.view(),
+            s as isize,
+            t,
+            pads[i],
+            &mut x[k * t * bands..][..t * bands],
+        );
+        for j in 0..t {
+            if let Some(&a) = (s + j)
+                .checked_sub(tr.first_frame)
+                .and_then(|o| tr.arousal.get(o))
+            {
+                y[k * t + j] = a;
+                mask[k * t + j] = 1.0;
+            }
+        }
+    }
+    Ok((
+        Tensor::from_vec(x, (b, t, bands), &Device::Cpu)?,
+        Tensor::from_vec(y, (b, t), &Device::Cpu)?,
+        Tensor::from_vec(mask, (b, t), &Device::Cpu)?,
+    ))
 }

@@ -6,7 +6,8 @@ use std::path::Path;
 use corpus::build::{build_corpus, CorpusConfig};
 use corpus::etude::EtudeConfig;
 use emotion_net::data::{
-    load_dataset, load_deam, read_deam_arousal, ArousalSplits, ArousalTrack, DEAM_AROUSAL_CSV,
+    load_corpus_with, load_dataset, load_deam, read_deam_arousal, ArousalSplits, ArousalTrack,
+    CorpusTarget, DEAM_AROUSAL_CSV,
 };
 use emotion_net::{ArousalEstimator, TrainConfig};
 use ndarray::Array2;
@@ -51,6 +52,16 @@ fn trains_on_a_tiny_corpus_and_round_trips_weights() {
         );
         assert!(t.arousal.iter().all(|a| (-1.0..=1.0).contains(a)));
     }
+    // The recomputed proxy is what the corpus wrote (a corpus made with this build).
+    let written = load_corpus_with(dir.path(), CorpusTarget::File, &|_, _| {}).unwrap();
+    for (a, b) in data.train.iter().zip(&written.train) {
+        assert_eq!(a.arousal.len(), b.arousal.len());
+        assert!(a
+            .arousal
+            .iter()
+            .zip(&b.arousal)
+            .all(|(x, y)| (x - y).abs() < 1e-5));
+    }
     let out = dir.path().join("emotion.safetensors");
     let mut losses = Vec::new();
     let report = emotion_net::train(&data, &quick_config(6), &out, false, &mut |p| {
@@ -85,6 +96,14 @@ fn trains_on_a_tiny_corpus_and_round_trips_weights() {
     assert_eq!(resumed.epochs_run, 7);
     assert_eq!(resumed.epoch_losses.len(), 7);
     assert_eq!(&resumed.epoch_losses[..6], &report.epoch_losses[..]);
+
+    // An item without its performance cannot give the proxy: the error names the file.
+    let item = dir.path().join("items/00000/performance.json");
+    std::fs::remove_file(&item).unwrap();
+    let e = load_dataset(dir.path(), &|_, _| {})
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("00000/performance.json"), "{e}");
 }
 
 #[test]

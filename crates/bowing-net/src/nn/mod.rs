@@ -1,17 +1,18 @@
-//! Building blocks shared by bowing-net and emotion-net on candle's CPU backend: a fast
-//! channels-last convolution, a max pool with a correct backward, seeded dropout, a
-//! checkpointable Adam, and safetensors weights files with metadata.
+//! Layers shared by bowing-net and emotion-net on candle's CPU backend: a fast channels-last
+//! convolution (optionally fused with its ReLU), max pools with a correct backward (one
+//! alignment, or both time alignments of the phase tree at once), seeded dropout, and a
+//! weighted cross-entropy. (Weights files, Adam and checkpoints are in `net-store`.)
 
-mod adam;
 mod conv;
 mod dropout;
 mod pool;
-pub mod store;
 
-pub use adam::{Adam, AdamConfig};
-pub use conv::{conv2d_nhwc, Conv2dNhwc};
+pub use conv::{conv2d_nhwc, conv2d_relu_nhwc, Conv2dNhwc};
 pub use dropout::{DropoutRng, SeededDropout};
-pub use pool::{max_pool2x2_nhwc, MaxPool2x2, MaxPool2x2Backward};
+pub use pool::{
+    max_pool2x2_nhwc, pool_phases_nhwc, MaxPool2x2, MaxPool2x2Backward, PoolPhases,
+    PoolPhasesBackward,
+};
 
 /// Cross-entropy of two-class `logits` `(n, 2)` against `targets` (0/1, `n`) with
 /// per-example `weights` `(n)`: `Σ wᵢ·CEᵢ / Σ wᵢ` (0 when all weights are 0).

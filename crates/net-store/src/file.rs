@@ -1,15 +1,30 @@
 //! Weights files: safetensors with the network's name, format version, configuration and
 //! anything else a loader needs in the string metadata; f32 tensors only.
+//!
+//! ```
+//! use std::collections::HashMap;
+//! use candle_core::{Device, Tensor};
+//! use net_store::file::{decode, encode, KEY_FORMAT, KEY_VERSION};
+//! let t = Tensor::new(&[1f32, 2.0], &Device::Cpu)?;
+//! let meta = HashMap::from([
+//!     (KEY_FORMAT.to_string(), "demo-net".to_string()),
+//!     (KEY_VERSION.to_string(), "1".to_string()),
+//! ]);
+//! let bytes = encode(&[("w".to_string(), t)], meta)?;
+//! let file = decode(&bytes, "demo.safetensors".as_ref())?;
+//! file.check_format("demo.safetensors".as_ref(), "demo-net", 1)?;
+//! assert!(file.check_format("demo.safetensors".as_ref(), "other-net", 1).is_err());
+//! assert_eq!(file.tensors["w"].to_vec1::<f32>()?, vec![1.0, 2.0]);
+//! # Ok::<(), net_store::StoreError>(())
+//! ```
 
 use std::collections::HashMap;
 use std::path::Path;
 
 use candle_core::{Device, Tensor};
-use candle_nn::VarMap;
-use corpus::rng::Rng;
 use safetensors::tensor::{Dtype, SafeTensors, TensorView};
 
-use crate::error::{NetError, Result};
+use crate::error::{Result, StoreError};
 
 /// Metadata key naming the network (e.g. `bowing-net`).
 pub const KEY_FORMAT: &str = "format";
@@ -28,24 +43,23 @@ pub struct TensorFile {
 impl TensorFile {
     /// The metadata value of `key`, or an error naming `path`.
     pub fn meta(&self, key: &str, path: &Path) -> Result<&str> {
-        self.metadata
-            .get(key)
-            .map(String::as_str)
-            .ok_or_else(|| NetError::weights(path, format!("the metadata has no \"{key}\" entry")))
+        self.metadata.get(key).map(String::as_str).ok_or_else(|| {
+            StoreError::weights(path, format!("the metadata has no \"{key}\" entry"))
+        })
     }
 
     /// Checks the network name and version written by [`encode`].
     pub fn check_format(&self, path: &Path, format: &str, version: u32) -> Result<()> {
         let found = self.meta(KEY_FORMAT, path)?;
         if found != format {
-            return Err(NetError::weights(
+            return Err(StoreError::weights(
                 path,
                 format!("it holds \"{found}\" weights, this loader reads \"{format}\""),
             ));
         }
         let v = self.meta(KEY_VERSION, path)?;
         if v != version.to_string() {
-            return Err(NetError::weights(
+            return Err(StoreError::weights(
                 path,
                 format!("format version {v}, this build reads version {version}: retrain with this version"),
             ));
@@ -53,15 +67,34 @@ impl TensorFile {
         Ok(())
     }
 
+    /// The metadata value of `key` parsed as JSON, or an error naming `path` and the key.
+    pub fn meta_json<T: serde::de::DeserializeOwned>(&self, key: &str, path: &Path) -> Result<T> {
+        serde_json::from_str(self.meta(key, path)?)
+            .map_err(|e| StoreError::weights(path, format!("bad \"{key}\" metadata ({e})")))
+    }
+
+    /// The tensors named in `expected`, in that order, after checking their shapes
+    /// ([`TensorFile::check_shapes`]); tensors the file has beyond them are ignored.
+    pub fn take_expected(
+        &self,
+        path: &Path,
+        expected: &[(String, Vec<usize>)],
+    ) -> Result<Vec<(String, Tensor)>> {
+        self.check_shapes(path, expected)?;
+        Ok(expected
+            .iter()
+            .filter_map(|(name, _)| self.tensors.get(name).map(|t| (name.clone(), t.clone())))
+            .collect())
+    }
+
     /// Checks that every `(name, shape)` is present with that shape.
     pub fn check_shapes(&self, path: &Path, expected: &[(String, Vec<usize>)]) -> Result<()> {
         for (name, shape) in expected {
-            let t = self
-                .tensors
-                .get(name)
-                .ok_or_else(|| NetError::weights(path, format!("tensor \"{name}\" is missing")))?;
+            let t = self.tensors.get(name).ok_or_else(|| {
+                StoreError::weights(path, format!("tensor \"{name}\" is missing"))
+            })?;
             if t.dims() != shape.as_slice() {
-                return Err(NetError::weights(
+                return Err(StoreError::weights(
                     path,
                     format!(
                         "tensor \"{name}\" has shape {:?}, the network needs {shape:?}",
@@ -88,17 +121,17 @@ pub fn encode(tensors: &[(String, Tensor)], metadata: HashMap<String, String>) -
     let mut views = Vec::with_capacity(raw.len());
     for (name, shape, bytes) in &raw {
         let view = TensorView::new(Dtype::F32, shape.clone(), bytes)
-            .map_err(|e| NetError::Config(format!("tensor {name}: {e}")))?;
+            .map_err(|e| StoreError::Config(format!("tensor {name}: {e}")))?;
         views.push((name.clone(), view));
     }
     safetensors::serialize(views, Some(metadata))
-        .map_err(|e| NetError::Config(format!("safetensors: {e}")))
+        .map_err(|e| StoreError::Config(format!("safetensors: {e}")))
 }
 
 /// Parses safetensors bytes (f32 tensors only); `path` names the source in errors.
 pub fn decode(bytes: &[u8], path: &Path) -> Result<TensorFile> {
     let bad = |e: &dyn std::fmt::Display| {
-        NetError::weights(
+        StoreError::weights(
             path,
             format!("not a readable safetensors file ({e}); was it truncated?"),
         )
@@ -108,7 +141,7 @@ pub fn decode(bytes: &[u8], path: &Path) -> Result<TensorFile> {
     let mut tensors = HashMap::new();
     for (name, view) in st.tensors() {
         if view.dtype() != Dtype::F32 {
-            return Err(NetError::weights(
+            return Err(StoreError::weights(
                 path,
                 format!("tensor \"{name}\" is {:?}, expected F32", view.dtype()),
             ));
@@ -119,7 +152,7 @@ pub fn decode(bytes: &[u8], path: &Path) -> Result<TensorFile> {
             .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
             .collect();
         if values.iter().any(|v| !v.is_finite()) {
-            return Err(NetError::weights(
+            return Err(StoreError::weights(
                 path,
                 format!("tensor \"{name}\" holds NaN or infinite values"),
             ));
@@ -135,100 +168,30 @@ pub fn decode(bytes: &[u8], path: &Path) -> Result<TensorFile> {
 /// Reads and parses a safetensors file.
 pub fn read(path: &Path) -> Result<TensorFile> {
     let bytes = std::fs::read(path)
-        .map_err(|e| NetError::io(path, format!("cannot read the weights file ({e})")))?;
+        .map_err(|e| StoreError::io(path, format!("cannot read the weights file ({e})")))?;
     decode(&bytes, path)
 }
 
 /// Writes bytes to `path` through a temporary file in the same folder (never half-written).
 pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
     atomic_file::write_bytes_atomically(path, bytes)
-        .map_err(|e| NetError::io(path, format!("cannot write ({e}); is the folder writable?")))
+        .map_err(|e| StoreError::io(path, format!("cannot write ({e}); is the folder writable?")))
 }
 
-/// The `(name, shape)` of every variable of `varmap`, sorted by name.
-pub fn var_shapes(varmap: &VarMap) -> Vec<(String, Vec<usize>)> {
-    let mut out: Vec<(String, Vec<usize>)> = match varmap.data().lock() {
-        Ok(data) => data
-            .iter()
-            .map(|(k, v)| (k.clone(), v.as_tensor().dims().to_vec()))
-            .collect(),
-        Err(_) => Vec::new(),
-    };
-    out.sort();
-    out
+/// The metadata of a network's weights file: its format name and version (the keys
+/// [`TensorFile::check_format`] reads) plus `entries` (e.g. `config`, `training`).
+pub fn metadata(format: &str, version: u32, entries: &[(&str, String)]) -> HashMap<String, String> {
+    let mut meta: HashMap<String, String> = entries
+        .iter()
+        .map(|(k, v)| ((*k).to_string(), v.clone()))
+        .collect();
+    meta.insert(KEY_FORMAT.to_string(), format.to_string());
+    meta.insert(KEY_VERSION.to_string(), version.to_string());
+    meta
 }
 
-/// The variables of `varmap` as `(name, tensor)` pairs, sorted by name.
-pub fn var_tensors(varmap: &VarMap) -> Vec<(String, Tensor)> {
-    let mut out: Vec<(String, Tensor)> = match varmap.data().lock() {
-        Ok(data) => data
-            .iter()
-            .map(|(k, v)| (k.clone(), v.as_detached_tensor()))
-            .collect(),
-        Err(_) => Vec::new(),
-    };
-    out.sort_by(|a, b| a.0.cmp(&b.0));
-    out
-}
-
-/// The trainable variables of `varmap` (all but those `frozen` says), sorted by name.
-pub fn trainable_vars(
-    varmap: &VarMap,
-    frozen: impl Fn(&str) -> bool,
-) -> Vec<(String, candle_core::Var)> {
-    let mut out: Vec<(String, candle_core::Var)> = match varmap.data().lock() {
-        Ok(data) => data
-            .iter()
-            .filter(|(k, _)| !frozen(k))
-            .map(|(k, v)| (k.clone(), v.clone()))
-            .collect(),
-        Err(_) => Vec::new(),
-    };
-    out.sort_by(|a, b| a.0.cmp(&b.0));
-    out
-}
-
-/// Overwrites the variables of `varmap` that `tensors` has (same shapes required).
-pub fn load_into(varmap: &VarMap, tensors: &HashMap<String, Tensor>, path: &Path) -> Result<()> {
-    let data = varmap
-        .data()
-        .lock()
-        .map_err(|_| NetError::Config("variable store poisoned".into()))?;
-    for (name, var) in data.iter() {
-        let t = tensors
-            .get(name)
-            .ok_or_else(|| NetError::weights(path, format!("tensor \"{name}\" is missing")))?;
-        if t.dims() != var.as_tensor().dims() {
-            return Err(NetError::weights(
-                path,
-                format!(
-                    "tensor \"{name}\" has shape {:?}, the network needs {:?}",
-                    t.dims(),
-                    var.as_tensor().dims()
-                ),
-            ));
-        }
-        var.set(t)?;
-    }
-    Ok(())
-}
-
-/// Seeded initialisation of every variable of `varmap`, in name order: `rule(name, shape)`
-/// gives `Some(bound)` for uniform values in ±bound, or `None` to leave the variable as it is
-/// (e.g. biases created as zeros).
-pub fn init_seeded(
-    varmap: &VarMap,
-    seed: u64,
-    rule: impl Fn(&str, &[usize]) -> Option<f64>,
-) -> Result<()> {
-    let mut rng = Rng::new(seed);
-    for (name, var) in trainable_vars(varmap, |_| false) {
-        let dims = var.as_tensor().dims().to_vec();
-        if let Some(bound) = rule(&name, &dims) {
-            let n: usize = dims.iter().product();
-            let values: Vec<f32> = (0..n).map(|_| rng.uniform(-bound, bound) as f32).collect();
-            var.set(&Tensor::from_vec(values, dims.as_slice(), &Device::Cpu)?)?;
-        }
-    }
-    Ok(())
+/// `value` as JSON metadata.
+pub fn to_json<T: serde::Serialize>(value: &T) -> Result<String> {
+    serde_json::to_string(value)
+        .map_err(|e| StoreError::Config(format!("cannot serialise metadata ({e})")))
 }

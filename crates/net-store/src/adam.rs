@@ -6,7 +6,7 @@ use std::collections::HashMap;
 use candle_core::backprop::GradStore;
 use candle_core::{Tensor, Var};
 
-use crate::error::{NetError, Result};
+use crate::error::{Result, StoreError};
 
 /// Adam's hyper-parameters.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -125,13 +125,13 @@ impl Adam {
     /// Restores [`Adam::state`]; every moment must be present with the parameter's shape.
     pub fn load_state(&mut self, tensors: &HashMap<String, Tensor>) -> Result<()> {
         let missing =
-            |what: &str| NetError::Config(format!("checkpoint has no optimizer tensor {what}"));
+            |what: &str| StoreError::Config(format!("checkpoint has no optimizer tensor {what}"));
         for (i, (name, p)) in self.params.iter().enumerate() {
             for (kind, slot) in [("m", &mut self.m[i]), ("v", &mut self.v[i])] {
                 let key = format!("adam.{kind}.{name}");
                 let t = tensors.get(&key).ok_or_else(|| missing(&key))?;
                 if t.dims() != p.as_tensor().dims() {
-                    return Err(NetError::Config(format!(
+                    return Err(StoreError::Config(format!(
                         "checkpoint tensor {key} has shape {:?}, the parameter has {:?}",
                         t.dims(),
                         p.as_tensor().dims()

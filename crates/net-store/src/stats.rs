@@ -1,0 +1,38 @@
+//! Per-band input normalisation statistics.
+
+use ndarray::ArrayView2;
+
+/// Mean and standard deviation (floored at 1e-3) of every band (column) over all frames
+/// (rows) of `spectrograms`; bands beyond `bands` are ignored.
+///
+/// ```
+/// let a = ndarray::array![[0.0f32, 10.0], [2.0, 10.0]];
+/// let (mean, std) = net_store::band_statistics([a.view()], 2);
+/// assert_eq!(mean, vec![1.0, 10.0]);
+/// assert_eq!(std, vec![1.0, 1e-3]);
+/// ```
+pub fn band_statistics<'a>(
+    spectrograms: impl IntoIterator<Item = ArrayView2<'a, f32>>,
+    bands: usize,
+) -> (Vec<f32>, Vec<f32>) {
+    let mut sum = vec![0.0f64; bands];
+    let mut sq = vec![0.0f64; bands];
+    let mut n = 0usize;
+    for mel in spectrograms {
+        for row in mel.rows() {
+            for (k, &v) in row.iter().enumerate().take(bands) {
+                sum[k] += f64::from(v);
+                sq[k] += f64::from(v) * f64::from(v);
+            }
+            n += 1;
+        }
+    }
+    let n = n.max(1) as f64;
+    let mean = sum.iter().map(|s| (s / n) as f32).collect();
+    let std = sq
+        .iter()
+        .zip(&sum)
+        .map(|(q, s)| ((q / n - (s / n).powi(2)).max(0.0).sqrt().max(1e-3)) as f32)
+        .collect();
+    (mean, std)
+}
