@@ -1,16 +1,9 @@
 //! Mono audio in memory and decoding audio files into it.
 
-use std::fs::File;
 use std::path::Path;
 
-use symphonia::core::codecs::audio::AudioDecoderOptions;
-use symphonia::core::errors::Error as SymError;
-use symphonia::core::formats::probe::Hint;
-use symphonia::core::formats::{FormatOptions, TrackType};
-use symphonia::core::io::MediaSourceStream;
-use symphonia::core::meta::MetadataOptions;
-
 use crate::error::{DspError, Result};
+use crate::stream::AudioReader;
 
 /// Mono audio: `f32` samples at a known sample rate.
 ///
@@ -99,43 +92,16 @@ pub const DEFAULT_ANALYSIS_RATE_HZ: u32 = 22_050;
 /// # Ok::<(), dsp_mel::DspError>(())
 /// ```
 pub fn load_audio(path: impl AsRef<Path>) -> Result<Audio> {
-    let path = path.as_ref();
-    let meta = std::fs::metadata(path).map_err(|e| match e.kind() {
-        std::io::ErrorKind::NotFound => DspError::NotFound { path: path.into() },
-        _ => DspError::Io {
-            path: path.into(),
-            source: e,
-        },
-    })?;
-    if meta.is_dir() {
-        return Err(DspError::IsDirectory { path: path.into() });
-    }
-    if meta.len() == 0 {
-        return Err(DspError::EmptyFile { path: path.into() });
-    }
-    let file = File::open(path).map_err(|e| DspError::Io {
-        path: path.into(),
-        source: e,
-    })?;
-    let (samples, rate) = decode(file, path)?;
-    if samples.is_empty() {
-        return Err(DspError::NoSamples { path: path.into() });
-    }
-    if let Some(index) = crate::mel::first_non_finite(&samples) {
-        return Err(DspError::NonFinite {
-            source_name: path.display().to_string(),
-            index,
-        });
-    }
-    if rate == 0 {
-        return Err(DspError::Corrupt {
-            path: path.into(),
-            reason: "sample rate is 0".into(),
-        });
-    }
+    let mut reader = AudioReader::open(path)?;
+    let mut samples = Vec::with_capacity(
+        reader
+            .total_samples_hint()
+            .map_or(0, |n| usize::try_from(n).unwrap_or(0).min(1 << 28)),
+    );
+    while reader.read_mono(1 << 20, &mut samples)? > 0 {}
     Ok(Audio {
         samples,
-        sample_rate_hz: rate,
+        sample_rate_hz: reader.sample_rate_hz(),
     })
 }
 
@@ -148,120 +114,9 @@ pub fn load_audio_at(path: impl AsRef<Path>, rate: AnalysisRate) -> Result<Audio
     }
 }
 
-/// How many undecodable packets in a row we skip before calling the file corrupt.
-const MAX_CONSECUTIVE_BAD_PACKETS: usize = 16;
-
-fn decode(file: File, path: &Path) -> Result<(Vec<f32>, u32)> {
-    let unsupported = |reason: String| DspError::Unsupported {
-        path: path.into(),
-        reason,
-    };
-    let corrupt = |reason: String| DspError::Corrupt {
-        path: path.into(),
-        reason,
-    };
-    let mss = MediaSourceStream::new(Box::new(file), Default::default());
-    let mut hint = Hint::new();
-    if let Some(ext) = path.extension().and_then(|e| e.to_str()) {
-        hint.with_extension(ext);
-    }
-    let mut format = symphonia::default::get_probe()
-        .probe(
-            &hint,
-            mss,
-            FormatOptions::default(),
-            MetadataOptions::default(),
-        )
-        .map_err(|e| unsupported(e.to_string()))?;
-    let track = format
-        .default_track(TrackType::Audio)
-        .ok_or_else(|| unsupported("no audio track".into()))?;
-    let track_id = track.id;
-    let params = track
-        .codec_params
-        .as_ref()
-        .and_then(|p| p.audio())
-        .ok_or_else(|| unsupported("no audio codec parameters".into()))?;
-    let mut rate = params.sample_rate.unwrap_or(0);
-    let mut decoder = symphonia::default::get_codecs()
-        .make_audio_decoder(params, &AudioDecoderOptions::default())
-        .map_err(|e| unsupported(e.to_string()))?;
-
-    let mut mono: Vec<f32> = Vec::new();
-    let mut interleaved: Vec<f32> = Vec::new();
-    let mut bad_in_a_row = 0usize;
-    let mut last_decode_error = String::new();
-    loop {
-        let packet = match format.next_packet() {
-            Ok(Some(p)) => p,
-            Ok(None) => break,
-            // A file cut short ends the stream: keep what was decoded.
-            Err(SymError::IoError(_)) => break,
-            Err(SymError::ResetRequired) => break,
-            Err(e) => {
-                if mono.is_empty() {
-                    return Err(corrupt(e.to_string()));
-                }
-                break;
-            }
-        };
-        if packet.track_id != track_id {
-            continue;
-        }
-        match decoder.decode(&packet) {
-            Ok(buf) => {
-                bad_in_a_row = 0;
-                let channels = buf.spec().channels().count().max(1);
-                if rate == 0 {
-                    rate = buf.spec().rate();
-                }
-                buf.copy_to_vec_interleaved(&mut interleaved);
-                mix_down_into(&interleaved, channels, &mut mono);
-            }
-            Err(SymError::DecodeError(e)) => {
-                last_decode_error = e.to_string();
-                bad_in_a_row += 1;
-            }
-            Err(SymError::IoError(e)) => {
-                last_decode_error = e.to_string();
-                bad_in_a_row += 1;
-            }
-            Err(e) => return Err(corrupt(e.to_string())),
-        }
-        if bad_in_a_row > MAX_CONSECUTIVE_BAD_PACKETS {
-            return Err(corrupt(last_decode_error));
-        }
-    }
-    if mono.is_empty() && !last_decode_error.is_empty() {
-        return Err(corrupt(last_decode_error));
-    }
-    Ok((mono, rate))
-}
-
-/// Averages interleaved channels into `out` (appending).
-fn mix_down_into(interleaved: &[f32], channels: usize, out: &mut Vec<f32>) {
-    if channels == 1 {
-        out.extend_from_slice(interleaved);
-        return;
-    }
-    let scale = 1.0 / channels as f32;
-    out.extend(
-        interleaved
-            .chunks_exact(channels)
-            .map(|frame| frame.iter().sum::<f32>() * scale),
-    );
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn mixdown_averages_channels() {
-        let mut out = Vec::new();
-        mix_down_into(&[1.0, 3.0, -1.0, 1.0], 2, &mut out);
-        assert_eq!(out, vec![2.0, 0.0]);
-    }
 
     #[test]
     fn new_rejects_bad_audio() {

@@ -22,6 +22,7 @@ mod error;
 mod filterbank;
 mod mel;
 mod resample;
+mod stream;
 
 pub mod filters;
 
@@ -32,3 +33,4 @@ pub use error::{DspError, Result};
 pub use filterbank::{hz_to_mel, mel_filterbank, mel_frequencies, mel_to_hz};
 pub use mel::{pool_frames, MelSpectrogram};
 pub use resample::resample;
+pub use stream::AudioReader;

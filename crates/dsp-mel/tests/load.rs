@@ -184,3 +184,52 @@ fn silence_loads_as_zeros() {
     assert_eq!(audio.samples().len(), 2205);
     assert_eq!(audio.peak(), 0.0);
 }
+
+#[test]
+fn reading_in_pieces_gives_the_same_samples_for_every_format() {
+    for name in [
+        "a440_22050_1ch.flac",
+        "a440_44100_2ch.ogg",
+        "a440_44100_1ch.mp3",
+        "a440_48000_2ch.wav",
+    ] {
+        let whole = load_audio(fixture(name)).unwrap();
+        let mut reader = dsp_mel::AudioReader::open(fixture(name)).unwrap();
+        assert_eq!(reader.sample_rate_hz(), whole.sample_rate_hz(), "{name}");
+        let mut pieces = Vec::new();
+        let mut piece = Vec::new();
+        loop {
+            piece.clear();
+            let n = reader.read_mono(1234, &mut piece).unwrap();
+            if n == 0 {
+                break;
+            }
+            assert!(n <= 1234);
+            pieces.extend_from_slice(&piece);
+        }
+        assert_eq!(pieces, whole.samples(), "{name}");
+        assert_eq!(reader.samples_read(), whole.samples().len(), "{name}");
+    }
+}
+
+#[test]
+fn reading_in_pieces_reports_nan_at_its_file_index() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("nan.wav");
+    let mut samples = vec![0.1f32; 5000];
+    samples[3210] = f32::NAN;
+    write_wav(&p, &samples, 22_050);
+    let mut reader = dsp_mel::AudioReader::open(&p).unwrap();
+    let mut out = Vec::new();
+    let err = loop {
+        match reader.read_mono(1000, &mut out) {
+            Ok(0) => panic!("the NaN was not reported"),
+            Ok(_) => out.clear(),
+            Err(e) => break e,
+        }
+    };
+    assert!(
+        matches!(err, DspError::NonFinite { index: 3210, .. }),
+        "{err}"
+    );
+}
