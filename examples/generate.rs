@@ -1,26 +1,33 @@
-//! The 15-line use of the facade: a recording in, motion JSON and an HTML player out.
+//! The 15-line use of the facade: a recording of any length in, motion JSON and an HTML
+//! player (skeleton and audio in sync) out.
 //!
 //! `cargo run --release --example generate -- take1.wav out.json`
 
-use violin_skeleton::{load_audio, MotionFormat, Pipeline};
+use violin_skeleton::skeleton_render::{audio_mime, write_html_player_file};
+use violin_skeleton::{MotionFormat, Pipeline};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().collect();
-    let (input, output) = match (args.get(1), args.get(2)) {
-        (Some(i), Some(o)) => (i, o),
-        _ => return Err("usage: generate IN.wav OUT.json".into()),
+    let (Some(input), Some(output)) = (args.get(1), args.get(2)) else {
+        return Err("usage: generate IN.wav OUT.json".into());
     };
-    let audio = load_audio(input)?;
     let pipeline = Pipeline::default();
-    let analysis = pipeline.analyze(&audio)?;
+    // Decoded and analysed a piece at a time: memory stays flat for long recordings.
+    let analysis = pipeline.analyze_file(input, |done_s, _| eprint!("\r{done_s:.0} s"))?;
     println!(
-        "{} notes, {} bow changes, {:.0} bpm",
+        "\n{} notes, {} bow changes, {:.0} bpm",
         analysis.notes.len(),
         analysis.bow_changes_s.len(),
         analysis.tempo_bpm
     );
     let motion = pipeline.generate_from_analysis(&analysis)?;
     motion.write(output, MotionFormat::Json)?;
-    println!("{} frames written to {output}", motion.len());
+    let audio = std::fs::read(input)?;
+    let mime = audio_mime(input.as_ref()).unwrap_or("audio/wav");
+    write_html_player_file(&motion, Some((&audio, mime)), format!("{output}.html"))?;
+    println!(
+        "{} frames written to {output} and {output}.html",
+        motion.len()
+    );
     Ok(())
 }

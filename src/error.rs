@@ -24,12 +24,33 @@ pub enum Error {
     /// Motion files.
     #[error(transparent)]
     Skeleton(#[from] skeleton::SkeletonError),
+    /// Reading or measuring a skeleton (OpenPose folders, bowing attacks).
+    #[error(transparent)]
+    Pose(#[from] pose_preproc::PosePreprocError),
     /// MIDI input or corpus rendering.
     #[error(transparent)]
     Corpus(#[from] corpus::CorpusError),
     /// The recording has no notes to play.
     #[error("{0}: no notes were found; is this a solo violin recording (not silence or noise)?")]
     NoNotes(String),
+    /// The recording is too short to show any playing.
+    #[error("{source_name}: the recording is {duration_s:.2} s long; at least {min_s} s of audio is needed to see bowing")]
+    TooShort {
+        /// The file, or "the recording" for audio in memory.
+        source_name: String,
+        /// Its length in seconds.
+        duration_s: f64,
+        /// The shortest length accepted, in seconds.
+        min_s: f64,
+    },
+    /// A labelled dataset folder (corpus or URMP layout) is missing files or malformed.
+    #[error("{path}: {reason}")]
+    Dataset {
+        /// The file or folder.
+        path: std::path::PathBuf,
+        /// What is wrong and what to do.
+        reason: String,
+    },
     /// A network failed or its weights do not fit.
     #[error("{0}")]
     Network(String),

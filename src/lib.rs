@@ -24,14 +24,17 @@
 
 mod analysis;
 mod error;
+pub mod evaluate;
+mod long_audio;
 pub mod networks;
 mod pipeline;
 
 pub use analysis::{Analysis, AnalyzedNote, ArousalSeries, F0Track};
 pub use error::{Error, Result};
-pub use pipeline::{Method, Pipeline, PipelineBuilder, PlannerKind};
+pub use long_audio::Chunking;
+pub use pipeline::{Method, Pipeline, PipelineBuilder, PlannerKind, StageTimings, MIN_DURATION_S};
 
-pub use dsp_mel::{load_audio, load_audio_at, Audio};
+pub use dsp_mel::{load_audio, load_audio_at, Audio, AudioReader};
 pub use motion_synth::{Camera, Performance, SynthConfig};
 pub use skeleton::formats::MotionFormat;
 pub use skeleton::Motion;

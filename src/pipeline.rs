@@ -1,6 +1,7 @@
 //! `Pipeline`: audio (or MIDI) → [`Analysis`] → [`Performance`] → [`Motion`].
 
 use std::path::{Path, PathBuf};
+use std::time::Instant;
 
 use dsp_mel::{resample, Audio, DEFAULT_ANALYSIS_RATE_HZ};
 use fingering::{Fingering, FingeringPlanner, FingeringTable, GreedyPlanner, OptimalPlanner};
@@ -10,6 +11,7 @@ use skeleton::Motion;
 
 use crate::analysis::{Analysis, AnalyzedNote, ArousalSeries, F0Track};
 use crate::error::{Error, Result};
+use crate::long_audio::Chunking;
 use crate::networks;
 
 /// How motion is made from the music.
@@ -33,6 +35,60 @@ pub enum PlannerKind {
     Optimal,
 }
 
+/// The shortest recording the pipeline makes motion for, in seconds (one bow stroke);
+/// shorter audio can still be analysed.
+pub const MIN_DURATION_S: f64 = 1.0;
+
+/// Seconds spent in each stage of an analysis (summed over chunks for long files).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct StageTimings {
+    /// Decoding the file (only [`Pipeline::analyze_file`] decodes).
+    pub decode_s: f64,
+    /// Resampling to the 22 050 Hz analysis rate.
+    pub resample_s: f64,
+    /// f0 tracking and note segmentation.
+    pub pitch_s: f64,
+    /// Onsets, tempo, beats, meter and downbeats.
+    pub beats_s: f64,
+    /// The bow-change CNN (including loading its weights the first time).
+    pub bowing_s: f64,
+    /// The arousal CRNN (including loading its weights the first time).
+    pub arousal_s: f64,
+}
+
+impl StageTimings {
+    /// Adds another chunk's timings.
+    pub fn add(&mut self, other: &StageTimings) {
+        self.decode_s += other.decode_s;
+        self.resample_s += other.resample_s;
+        self.pitch_s += other.pitch_s;
+        self.beats_s += other.beats_s;
+        self.bowing_s += other.bowing_s;
+        self.arousal_s += other.arousal_s;
+    }
+
+    /// The sum of all stages (more than the wall time: the score side and the networks run
+    /// at once).
+    pub fn total_s(&self) -> f64 {
+        self.decode_s
+            + self.resample_s
+            + self.pitch_s
+            + self.beats_s
+            + self.bowing_s
+            + self.arousal_s
+    }
+}
+
+impl std::fmt::Display for StageTimings {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "decode {:.3} s, resample {:.3} s, pitch+notes {:.3} s, beats {:.3} s, bowing-net {:.3} s, emotion-net {:.3} s",
+            self.decode_s, self.resample_s, self.pitch_s, self.beats_s, self.bowing_s, self.arousal_s
+        )
+    }
+}
+
 /// The whole product behind one value. Build it with [`Pipeline::builder`] or use
 /// [`Pipeline::default`] (Method 2, optimal fingering, embedded models, default camera).
 ///
@@ -51,6 +107,7 @@ pub struct Pipeline {
     bowing_weights: Option<PathBuf>,
     emotion_weights: Option<PathBuf>,
     gru_weights: Option<PathBuf>,
+    chunking: Chunking,
 }
 
 /// Builder of a [`Pipeline`].
@@ -103,6 +160,12 @@ impl PipelineBuilder {
         self
     }
 
+    /// How files longer than three minutes are cut for [`Pipeline::analyze_file`].
+    pub fn chunking(mut self, chunking: Chunking) -> Self {
+        self.inner.chunking = chunking;
+        self
+    }
+
     /// The pipeline. Weight files given to the builder are read when first needed, and a
     /// file that does not fit is reported then.
     pub fn build(self) -> Pipeline {
@@ -119,6 +182,16 @@ impl Pipeline {
     /// The synthesis settings.
     pub fn synth_config(&self) -> &SynthConfig {
         &self.synth
+    }
+
+    /// The motion method.
+    pub fn method(&self) -> Method {
+        self.method
+    }
+
+    /// How long files are cut.
+    pub fn chunking(&self) -> Chunking {
+        self.chunking
     }
 
     fn plan(&self, midi: &[u8]) -> Vec<Option<Fingering>> {
@@ -145,13 +218,57 @@ impl Pipeline {
     /// Analyses a recording: f0 and notes (pYIN-class tracker), fingering, beats, downbeats
     /// and tempo, bow changes and arousal.
     pub fn analyze(&self, audio: &Audio) -> Result<Analysis> {
+        self.analyze_timed(audio).map(|(a, _)| a)
+    }
+
+    /// [`Pipeline::analyze`], also telling how long each stage took.
+    pub fn analyze_timed(&self, audio: &Audio) -> Result<(Analysis, StageTimings)> {
+        let mut timings = StageTimings::default();
+        let clock = Instant::now();
         let analysed = resample(audio, DEFAULT_ANALYSIS_RATE_HZ)?;
+        timings.resample_s = clock.elapsed().as_secs_f64();
         let samples = analysed.samples();
         let rate = analysed.sample_rate_hz();
-        let track = PitchTracker::new(PitchConfig::default())?.track(samples)?;
-        let notes = segment_notes(&track, samples, rate, &NoteConfig::default())?;
-        let beats = beat_track::BeatTracker::new(beat_track::BeatConfig::default())?
-            .track(samples, Some(&notes))?;
+        // The score side (pitch, notes, beats) and the networks (bow changes, arousal) do
+        // not depend on each other: run them on both cores at once.
+        let score_side = || -> Result<_> {
+            let clock = Instant::now();
+            let track = PitchTracker::new(PitchConfig::default())?.track(samples)?;
+            let notes = segment_notes(&track, samples, rate, &NoteConfig::default())?;
+            let pitch_s = clock.elapsed().as_secs_f64();
+            let clock = Instant::now();
+            let beats = beat_track::BeatTracker::new(beat_track::BeatConfig::default())?
+                .track(samples, Some(&notes))?;
+            Ok((track, notes, beats, pitch_s, clock.elapsed().as_secs_f64()))
+        };
+        let network_side = || -> Result<_> {
+            let clock = Instant::now();
+            let bowing = match &self.bowing_weights {
+                Some(p) => networks::load_bowing(p)?,
+                None => networks::pretrained_bowing()?,
+            };
+            let bow_changes_s = networks::bow_changes(&bowing, &analysed)?;
+            let bowing_s = clock.elapsed().as_secs_f64();
+            let clock = Instant::now();
+            let emotion = match &self.emotion_weights {
+                Some(p) => networks::load_emotion(p)?,
+                None => networks::pretrained_emotion()?,
+            };
+            let arousal = networks::arousal(&emotion, &analysed, audio.duration_s())?;
+            Ok((
+                bow_changes_s,
+                arousal,
+                bowing_s,
+                clock.elapsed().as_secs_f64(),
+            ))
+        };
+        let (score, nets) = rayon::join(score_side, network_side);
+        let (track, notes, beats, pitch_s, beats_s) = score?;
+        let (bow_changes_s, arousal, bowing_s, arousal_s) = nets?;
+        timings.pitch_s = pitch_s;
+        timings.beats_s = beats_s;
+        timings.bowing_s = bowing_s;
+        timings.arousal_s = arousal_s;
         let midi: Vec<u8> = notes.iter().map(|n| n.midi).collect();
         let places = self.plan(&midi);
         let analyzed_notes: Vec<AnalyzedNote> = notes
@@ -166,17 +283,7 @@ impl Pipeline {
                 finger: f.map(|f| f.finger),
             })
             .collect();
-        let bowing = match &self.bowing_weights {
-            Some(p) => networks::load_bowing(p)?,
-            None => networks::pretrained_bowing()?,
-        };
-        let bow_changes_s = networks::bow_changes(&bowing, &analysed)?;
-        let emotion = match &self.emotion_weights {
-            Some(p) => networks::load_emotion(p)?,
-            None => networks::pretrained_emotion()?,
-        };
-        let arousal = networks::arousal(&emotion, &analysed, audio.duration_s())?;
-        Ok(Analysis {
+        let analysis = Analysis {
             duration_s: audio.duration_s(),
             sample_rate: audio.sample_rate_hz(),
             f0: F0Track {
@@ -197,23 +304,37 @@ impl Pipeline {
                 rate_hz: 2.0,
                 values: arousal,
             },
-        })
+        };
+        Ok((analysis, timings))
     }
 
     /// The [`Performance`] an analysis describes (the fingering it carries is kept; notes
     /// without a place are re-planned).
     pub fn performance(&self, analysis: &Analysis) -> Result<Performance> {
+        if analysis.duration_s < MIN_DURATION_S {
+            return Err(Error::TooShort {
+                source_name: "the recording".into(),
+                duration_s: analysis.duration_s,
+                min_s: MIN_DURATION_S,
+            });
+        }
         if analysis.notes.is_empty() {
             return Err(Error::NoNotes("the recording".into()));
         }
         let midi: Vec<u8> = analysis.notes.iter().map(|n| n.midi).collect();
         let planned = self.plan(&midi);
+        // Frame-centred analysis can put the last offset a hop past the end of the audio;
+        // the performance covers exactly [0, duration].
+        let duration_s = analysis.duration_s;
         let notes: Vec<PlayedNote> = analysis
             .notes
             .iter()
             .zip(planned)
+            .filter(|(n, _)| n.onset_s < duration_s)
             .map(|(n, planned)| {
-                let mut p = PlayedNote::new(n.onset_s, n.offset_s, n.midi);
+                let onset_s = n.onset_s.max(0.0);
+                let offset_s = n.offset_s.min(duration_s).max(onset_s);
+                let mut p = PlayedNote::new(onset_s, offset_s, n.midi);
                 let given = match (n.string, n.position, n.finger) {
                     (Some(s), Some(pos), Some(fin)) => {
                         fingering::ViolinString::from_number(s).map(|s| Fingering::new(s, pos, fin))
@@ -259,6 +380,13 @@ impl Pipeline {
                 self.generate_from_analysis(&analysis)
             }
             Method::Gru => {
+                if audio.duration_s() < MIN_DURATION_S {
+                    return Err(Error::TooShort {
+                        source_name: "the recording".into(),
+                        duration_s: audio.duration_s(),
+                        min_s: MIN_DURATION_S,
+                    });
+                }
                 let gru = match &self.gru_weights {
                     Some(p) => networks::load_gru(p)?,
                     None => networks::pretrained_gru()?,

@@ -9,7 +9,7 @@ use violin_skeleton::skeleton::PoseLayout;
 use violin_skeleton::skeleton_render::{
     audio_mime, write_gif_file, write_html_player_file, RenderConfig,
 };
-use violin_skeleton::{load_audio, Method, Motion, MotionFormat, Pipeline, PlannerKind};
+use violin_skeleton::{Method, Motion, MotionFormat, Pipeline, PlannerKind};
 
 use crate::error::CliError;
 use crate::Reporter;
@@ -161,6 +161,39 @@ pub fn write_preview(motion: &Motion, path: &Path, audio: Option<&Path>) -> Resu
     Ok(())
 }
 
+/// Weight files given on the command line (`None`: the embedded defaults).
+pub struct ModelFiles<'a> {
+    /// `--bowing-weights`.
+    pub bowing: Option<&'a Path>,
+    /// `--emotion-weights`.
+    pub emotion: Option<&'a Path>,
+    /// `--gru-weights`.
+    pub gru: Option<&'a Path>,
+}
+
+/// The pipeline the method, planner and weight flags describe.
+pub fn pipeline_for(method: MethodArg, planner: PlannerArg, models: &ModelFiles<'_>) -> Pipeline {
+    let mut builder = Pipeline::builder()
+        .method(match method {
+            MethodArg::Rules => Method::Rules,
+            MethodArg::Gru => Method::Gru,
+        })
+        .planner(match planner {
+            PlannerArg::Greedy => PlannerKind::Greedy,
+            PlannerArg::Optimal => PlannerKind::Optimal,
+        });
+    if let Some(p) = models.bowing {
+        builder = builder.bowing_weights(p);
+    }
+    if let Some(p) = models.emotion {
+        builder = builder.emotion_weights(p);
+    }
+    if let Some(p) = models.gru {
+        builder = builder.gru_weights(p);
+    }
+    builder.build()
+}
+
 /// Runs `generate`.
 pub fn run(args: &GenerateArgs, report: &Reporter) -> Result<(), CliError> {
     let format = match args.format.or_else(|| OutFormat::from_path(&args.output)) {
@@ -172,32 +205,21 @@ pub fn run(args: &GenerateArgs, report: &Reporter) -> Result<(), CliError> {
             )))
         }
     };
-    let mut builder = Pipeline::builder()
-        .method(match args.method {
-            MethodArg::Rules => Method::Rules,
-            MethodArg::Gru => Method::Gru,
-        })
-        .planner(match args.planner {
-            PlannerArg::Greedy => PlannerKind::Greedy,
-            PlannerArg::Optimal => PlannerKind::Optimal,
-        });
-    if let Some(p) = &args.bowing_weights {
-        builder = builder.bowing_weights(p);
-    }
-    if let Some(p) = &args.emotion_weights {
-        builder = builder.emotion_weights(p);
-    }
-    if let Some(p) = &args.gru_weights {
-        builder = builder.gru_weights(p);
-    }
-    let pipeline = builder.build();
+    let pipeline = pipeline_for(
+        args.method,
+        args.planner,
+        &ModelFiles {
+            bowing: args.bowing_weights.as_deref(),
+            emotion: args.emotion_weights.as_deref(),
+            gru: args.gru_weights.as_deref(),
+        },
+    );
     let t0 = Instant::now();
-    let bar = report.progress(3, "generate");
+    let mut timings_line = String::new();
     let (motion, summary) = if is_midi(&args.input) {
         let perf = pipeline
             .performance_from_midi(&args.input)
             .map_err(|e| with_input(e, &args.input))?;
-        bar.inc(2);
         let motion = violin_skeleton::motion_synth::synthesize(&perf, pipeline.synth_config())
             .map_err(violin_skeleton::Error::from)?;
         let summary = format!(
@@ -207,22 +229,31 @@ pub fn run(args: &GenerateArgs, report: &Reporter) -> Result<(), CliError> {
         );
         (motion, summary)
     } else {
-        let audio = load_audio(&args.input)?;
-        bar.inc(1);
-        match args.method {
+        let bar = report.progress(1, "analysing (audio seconds)");
+        let on_progress = |done_s: f64, total_s: Option<f64>| {
+            if let Some(t) = total_s {
+                bar.set_length(t.ceil() as u64);
+            }
+            bar.set_position(done_s.floor() as u64);
+        };
+        let out = match args.method {
             MethodArg::Rules => {
-                let analysis = pipeline
-                    .analyze(&audio)
+                let (analysis, timings) = pipeline
+                    .analyze_file_timed(&args.input, on_progress)
                     .map_err(|e| with_input(e, &args.input))?;
-                bar.inc(1);
                 if let Some(p) = &args.analysis_out {
                     crate::output::write_atomically(p, |w| {
                         serde_json::to_writer(w, &analysis).map_err(|e| e.to_string())
                     })?;
                 }
+                let t_synth = Instant::now();
                 let motion = pipeline
                     .generate_from_analysis(&analysis)
                     .map_err(|e| with_input(e, &args.input))?;
+                timings_line = format!(
+                    "{timings}, synthesis {:.3} s",
+                    t_synth.elapsed().as_secs_f64()
+                );
                 let summary = format!(
                     "{} notes, {} bow changes, {:.0} bpm",
                     analysis.notes.len(),
@@ -232,19 +263,21 @@ pub fn run(args: &GenerateArgs, report: &Reporter) -> Result<(), CliError> {
                 (motion, summary)
             }
             MethodArg::Gru => {
-                let motion = pipeline.generate(&audio)?;
-                bar.inc(1);
+                let motion = pipeline
+                    .generate_file(&args.input, on_progress)
+                    .map_err(|e| with_input(e, &args.input))?;
                 (motion, "Method 1 (GRU)".to_string())
             }
-        }
+        };
+        bar.finish_and_clear();
+        out
     };
+    let t_write = Instant::now();
     write_motion(&motion, &args.output, format)?;
     if let Some(p) = &args.preview {
         let audio = (!is_midi(&args.input)).then_some(args.input.as_path());
         write_preview(&motion, p, audio)?;
     }
-    bar.inc(1);
-    bar.finish_and_clear();
     report.line(&format!(
         "{}: {} → {} frames ({:.1} s at 30 fps, {format:?}) written to {} in {:.2} s",
         args.input.display(),
@@ -254,6 +287,12 @@ pub fn run(args: &GenerateArgs, report: &Reporter) -> Result<(), CliError> {
         args.output.display(),
         t0.elapsed().as_secs_f64()
     ));
+    if !timings_line.is_empty() {
+        report.line(&format!(
+            "  stages: {timings_line}, writing {:.3} s",
+            t_write.elapsed().as_secs_f64()
+        ));
+    }
     Ok(())
 }
 
@@ -263,6 +302,13 @@ fn with_input(e: violin_skeleton::Error, input: &Path) -> CliError {
         violin_skeleton::Error::NoNotes(_) => {
             CliError::Pipeline(violin_skeleton::Error::NoNotes(input.display().to_string()))
         }
+        violin_skeleton::Error::TooShort {
+            duration_s, min_s, ..
+        } => CliError::Pipeline(violin_skeleton::Error::TooShort {
+            source_name: input.display().to_string(),
+            duration_s,
+            min_s,
+        }),
         other => CliError::Pipeline(other),
     }
 }

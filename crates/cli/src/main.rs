@@ -7,6 +7,7 @@ mod analyze;
 mod corpus_cmd;
 mod demo;
 mod error;
+mod evaluate;
 mod features;
 mod generate;
 mod output;
@@ -51,6 +52,8 @@ enum Command {
     Analyze(analyze::AnalyzeArgs),
     /// Draw a motion as an animated GIF, PNG frames or an HTML player with the audio.
     Render(render::RenderArgs),
+    /// Every SPEC §10 measure on a labelled corpus or URMP folder: a table, and a JSON report.
+    Evaluate(evaluate::EvaluateArgs),
     /// Train the bow-change CNN, the arousal CRNN or the Method 1 GRU (corpus, URMP or DEAM folder).
     Train(train::TrainArgs),
 }
@@ -97,6 +100,7 @@ fn main() -> ExitCode {
         Command::Analyze(args) => analyze::run(args, &report),
         Command::Render(args) => render::run(args, &report),
         Command::Train(args) => train::run(args, &report),
+        Command::Evaluate(args) => evaluate::run(args, &report),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

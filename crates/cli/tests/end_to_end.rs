@@ -160,3 +160,24 @@ fn bad_inputs_fail_cleanly_and_leave_nothing() {
         .collect();
     assert!(leftovers.is_empty());
 }
+
+#[test]
+fn evaluate_on_a_folder_without_labels_fails_in_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let report = dir.path().join("report.json");
+    let out = run(
+        &[
+            "evaluate",
+            "--data",
+            dir.path().to_str().unwrap(),
+            "--report",
+            report.to_str().unwrap(),
+        ],
+        dir.path(),
+    );
+    assert_one_line_failure(&out, "evaluate on an empty folder");
+    assert!(String::from_utf8_lossy(&out.stderr).contains("neither a corpus"));
+    assert!(!report.exists());
+    let out = run(&["evaluate", "--data", "/no/such/folder"], dir.path());
+    assert_one_line_failure(&out, "evaluate on a missing folder");
+}
