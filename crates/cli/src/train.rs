@@ -357,7 +357,10 @@ mod tests {
         ))
         .unwrap_err()
         .to_string();
-        assert!(e.contains("missing.json") && e.contains("cannot read"), "{e}");
+        assert!(
+            e.contains("missing.json") && e.contains("cannot read"),
+            "{e}"
+        );
     }
 
     #[test]
