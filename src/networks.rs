@@ -32,6 +32,18 @@ fn net_err(what: &str, e: impl std::fmt::Display) -> Error {
     Error::Network(format!("{what}: {e}"))
 }
 
+/// An error loading the weight file `path`, named once (the crates' load errors usually
+/// name the file already).
+fn load_err(path: &Path, e: impl std::fmt::Display) -> Error {
+    let message = e.to_string();
+    let shown = path.display().to_string();
+    if message.contains(&shown) {
+        Error::Network(message)
+    } else {
+        Error::Network(format!("{shown}: {message}"))
+    }
+}
+
 static BOWING: OnceLock<std::result::Result<Arc<BowChangeDetector>, String>> = OnceLock::new();
 static EMOTION: OnceLock<std::result::Result<Arc<ArousalEstimator>, String>> = OnceLock::new();
 static GRU: OnceLock<std::result::Result<Arc<GruBaseline>, String>> = OnceLock::new();
@@ -75,21 +87,21 @@ pub fn pretrained_gru() -> Result<Arc<GruBaseline>> {
 pub fn load_bowing(path: &Path) -> Result<Arc<BowChangeDetector>> {
     BowChangeDetector::load(path)
         .map(Arc::new)
-        .map_err(|e| net_err(&path.display().to_string(), e))
+        .map_err(|e| load_err(path, e))
 }
 
 /// User-trained emotion weights.
 pub fn load_emotion(path: &Path) -> Result<Arc<ArousalEstimator>> {
     ArousalEstimator::load(path)
         .map(Arc::new)
-        .map_err(|e| net_err(&path.display().to_string(), e))
+        .map_err(|e| load_err(path, e))
 }
 
 /// User-trained GRU weights.
 pub fn load_gru(path: &Path) -> Result<Arc<GruBaseline>> {
     GruBaseline::load(path)
         .map(Arc::new)
-        .map_err(|e| net_err(&path.display().to_string(), e))
+        .map_err(|e| load_err(path, e))
 }
 
 /// Bow changes (seconds) in `audio` (analysis rate).

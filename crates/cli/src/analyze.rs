@@ -14,6 +14,7 @@ use clap::Args;
 use violin_skeleton::Pipeline;
 
 use crate::error::CliError;
+use crate::generate::AnalysisWeights;
 use crate::output::write_atomically;
 use crate::Reporter;
 
@@ -32,6 +33,9 @@ pub struct AnalyzeArgs {
     /// 11.6 ms hop.
     #[arg(long)]
     pub f0_fps: Option<f64>,
+    /// Network weight files (default: the embedded ones).
+    #[command(flatten)]
+    pub weights: AnalysisWeights,
 }
 
 /// Runs `analyze`.
@@ -43,15 +47,15 @@ pub fn run(args: &AnalyzeArgs, report: &Reporter) -> Result<(), CliError> {
             )));
         }
     }
+    let pipeline = args.weights.apply(Pipeline::builder()).build();
     let t0 = Instant::now();
     let bar = report.progress(1, "analysing (audio seconds)");
-    let (mut analysis, stages) =
-        Pipeline::default().analyze_file_timed(&args.input, |done_s, total_s| {
-            if let Some(t) = total_s {
-                bar.set_length(t.ceil() as u64);
-            }
-            bar.set_position(done_s.floor() as u64);
-        })?;
+    let (mut analysis, stages) = pipeline.analyze_file_timed(&args.input, |done_s, total_s| {
+        if let Some(t) = total_s {
+            bar.set_length(t.ceil() as u64);
+        }
+        bar.set_position(done_s.floor() as u64);
+    })?;
     if let Some(fps) = args.f0_fps {
         analysis.f0 = analysis.f0.resampled_to_fps(fps);
     }

@@ -7,7 +7,7 @@ use clap::{Args, ValueEnum};
 use violin_skeleton::evaluate::{evaluate_dir, SplitChoice};
 
 use crate::error::CliError;
-use crate::generate::{pipeline_for, MethodArg, ModelFiles, PlannerArg};
+use crate::generate::{pipeline_for, MethodArg, NetworkWeights, PlannerArg};
 use crate::output::write_atomically;
 use crate::Reporter;
 
@@ -45,15 +45,9 @@ pub struct EvaluateArgs {
     /// Only the first N recordings of the split.
     #[arg(long)]
     pub limit: Option<usize>,
-    /// Bow-change CNN weights (default: embedded).
-    #[arg(long)]
-    pub bowing_weights: Option<PathBuf>,
-    /// Arousal CRNN weights (default: embedded).
-    #[arg(long)]
-    pub emotion_weights: Option<PathBuf>,
-    /// GRU weights (default: embedded).
-    #[arg(long)]
-    pub gru_weights: Option<PathBuf>,
+    /// Network weight files (default: the embedded ones).
+    #[command(flatten)]
+    pub weights: NetworkWeights,
 }
 
 /// Runs `evaluate`.
@@ -63,15 +57,7 @@ pub fn run(args: &EvaluateArgs, report: &Reporter) -> Result<(), CliError> {
             "--limit 0: evaluate at least one recording".into(),
         ));
     }
-    let pipeline = pipeline_for(
-        args.method,
-        PlannerArg::Optimal,
-        &ModelFiles {
-            bowing: args.bowing_weights.as_deref(),
-            emotion: args.emotion_weights.as_deref(),
-            gru: args.gru_weights.as_deref(),
-        },
-    );
+    let pipeline = pipeline_for(args.method, PlannerArg::Optimal, &args.weights);
     let split = match args.split {
         SplitArg::Test => SplitChoice::Test,
         SplitArg::Val => SplitChoice::Val,

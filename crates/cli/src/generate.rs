@@ -9,7 +9,7 @@ use violin_skeleton::skeleton::PoseLayout;
 use violin_skeleton::skeleton_render::{
     audio_mime, write_gif_file, write_html_player_file, RenderConfig,
 };
-use violin_skeleton::{Method, Motion, MotionFormat, Pipeline, PlannerKind};
+use violin_skeleton::{Method, Motion, MotionFormat, Pipeline, PipelineBuilder, PlannerKind};
 
 use crate::error::CliError;
 use crate::Reporter;
@@ -92,15 +92,9 @@ pub struct GenerateArgs {
     /// Also write the analysis (f0, notes, bow changes, beats, arousal) as JSON.
     #[arg(long)]
     pub analysis_out: Option<PathBuf>,
-    /// Bow-change CNN weights from `train bowing` (default: embedded).
-    #[arg(long)]
-    pub bowing_weights: Option<PathBuf>,
-    /// Arousal CRNN weights from `train emotion` (default: embedded).
-    #[arg(long)]
-    pub emotion_weights: Option<PathBuf>,
-    /// GRU weights from `train gru` (default: embedded).
-    #[arg(long)]
-    pub gru_weights: Option<PathBuf>,
+    /// Network weight files (default: the embedded ones).
+    #[command(flatten)]
+    pub weights: NetworkWeights,
 }
 
 fn is_midi(path: &Path) -> bool {
@@ -161,18 +155,44 @@ pub fn write_preview(motion: &Motion, path: &Path, audio: Option<&Path>) -> Resu
     Ok(())
 }
 
-/// Weight files given on the command line (`None`: the embedded defaults).
-pub struct ModelFiles<'a> {
-    /// `--bowing-weights`.
-    pub bowing: Option<&'a Path>,
-    /// `--emotion-weights`.
-    pub emotion: Option<&'a Path>,
-    /// `--gru-weights`.
-    pub gru: Option<&'a Path>,
+/// The `--bowing-weights` / `--emotion-weights` flags of every command that analyses audio
+/// (`None`: the embedded defaults).
+#[derive(Debug, Clone, Default, Args)]
+pub struct AnalysisWeights {
+    /// Bow-change CNN weights from `train bowing` (default: embedded).
+    #[arg(long)]
+    pub bowing_weights: Option<PathBuf>,
+    /// Arousal CRNN weights from `train emotion` (default: embedded).
+    #[arg(long)]
+    pub emotion_weights: Option<PathBuf>,
+}
+
+/// The weight flags of the commands that make motion: the analysis networks and Method 1.
+#[derive(Debug, Clone, Default, Args)]
+pub struct NetworkWeights {
+    /// The analysis networks.
+    #[command(flatten)]
+    pub analysis: AnalysisWeights,
+    /// Method 1 GRU weights from `train gru` (default: embedded; used with `--method gru`).
+    #[arg(long)]
+    pub gru_weights: Option<PathBuf>,
+}
+
+impl AnalysisWeights {
+    /// Sets the given weight files on a pipeline builder.
+    pub fn apply(&self, mut builder: PipelineBuilder) -> PipelineBuilder {
+        if let Some(p) = &self.bowing_weights {
+            builder = builder.bowing_weights(p);
+        }
+        if let Some(p) = &self.emotion_weights {
+            builder = builder.emotion_weights(p);
+        }
+        builder
+    }
 }
 
 /// The pipeline the method, planner and weight flags describe.
-pub fn pipeline_for(method: MethodArg, planner: PlannerArg, models: &ModelFiles<'_>) -> Pipeline {
+pub fn pipeline_for(method: MethodArg, planner: PlannerArg, weights: &NetworkWeights) -> Pipeline {
     let mut builder = Pipeline::builder()
         .method(match method {
             MethodArg::Rules => Method::Rules,
@@ -182,13 +202,8 @@ pub fn pipeline_for(method: MethodArg, planner: PlannerArg, models: &ModelFiles<
             PlannerArg::Greedy => PlannerKind::Greedy,
             PlannerArg::Optimal => PlannerKind::Optimal,
         });
-    if let Some(p) = models.bowing {
-        builder = builder.bowing_weights(p);
-    }
-    if let Some(p) = models.emotion {
-        builder = builder.emotion_weights(p);
-    }
-    if let Some(p) = models.gru {
+    builder = weights.analysis.apply(builder);
+    if let Some(p) = &weights.gru_weights {
         builder = builder.gru_weights(p);
     }
     builder.build()
@@ -205,15 +220,7 @@ pub fn run(args: &GenerateArgs, report: &Reporter) -> Result<(), CliError> {
             )))
         }
     };
-    let pipeline = pipeline_for(
-        args.method,
-        args.planner,
-        &ModelFiles {
-            bowing: args.bowing_weights.as_deref(),
-            emotion: args.emotion_weights.as_deref(),
-            gru: args.gru_weights.as_deref(),
-        },
-    );
+    let pipeline = pipeline_for(args.method, args.planner, &args.weights);
     let t0 = Instant::now();
     let mut timings_line = String::new();
     let (motion, summary) = if is_midi(&args.input) {

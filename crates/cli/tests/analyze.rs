@@ -139,3 +139,47 @@ fn bad_inputs_fail_with_one_line() {
     let st = analyze(&wav, &out, &["--f0-fps", "0"]);
     assert_eq!(st.status.code(), Some(2));
 }
+
+#[test]
+fn weight_flags_load_the_given_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let wav = dir.path().join("ok.wav");
+    let tone: Vec<f32> = (0..44_100)
+        .map(|i| 0.3 * (2.0 * std::f32::consts::PI * 440.0 * i as f32 / 22_050.0).sin())
+        .collect();
+    write_wav(&wav, &tone, 22_050);
+    let out = dir.path().join("a.json");
+
+    // The embedded bow-change weights, given as a file, give the default result.
+    let weights = dir.path().join("bowing.safetensors");
+    std::fs::copy(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../bowing-net/weights/bowing-net.safetensors"),
+        &weights,
+    )
+    .unwrap();
+    let st = analyze(&wav, &out, &["--quiet"]);
+    assert!(st.status.success());
+    let default: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    let w = weights.to_str().unwrap();
+    let st = analyze(&wav, &out, &["--quiet", "--bowing-weights", w]);
+    assert!(
+        st.status.success(),
+        "{}",
+        String::from_utf8_lossy(&st.stderr)
+    );
+    let given: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    assert_eq!(given["bow_changes_s"], default["bow_changes_s"]);
+
+    // A file that is not emotion-net weights is one readable error naming it.
+    std::fs::remove_file(&out).unwrap();
+    let st = analyze(&wav, &out, &["--emotion-weights", w]);
+    assert_eq!(st.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&st.stderr);
+    assert!(
+        err.starts_with("error:")
+            && err.matches("bowing.safetensors").count() == 1
+            && err.lines().count() == 1,
+        "{err}"
+    );
+    assert!(!out.exists());
+}
