@@ -6,8 +6,10 @@
 //! * **space** — the absence of onsets inside the following beat (a long note starts on a
 //!   strong beat), measured on the onset curve;
 //! * with notes from `pitch-track`: **duration** — log₂ of the length, in beats, of the note
-//!   starting on the beat (−1 when a note is held through the beat), and **change** — a new
-//!   pitch starts on the beat (harmony moves at bar lines).
+//!   starting on the beat (−1 when a note is held through the beat), **change** — a new
+//!   pitch starts on the beat (harmony moves at bar lines), and **rest** — the note starting
+//!   on the beat follows a rest of at least [`MeterConfig::min_rest_beats`] (phrases start
+//!   after rests, and at bar lines).
 //!
 //! Each *hypothesis* labels every tracked beat as a downbeat, a beat or a subdivision:
 //! * the tracked beats are the beats, `M` ∈ {2, 3, 4} per bar, phase `φ`
@@ -61,6 +63,10 @@ pub struct MeterConfig {
     pub subdivision_penalty: f64,
     /// Tolerance for a note onset to count as on the beat, in seconds.
     pub note_tolerance_s: f64,
+    /// Weight of a rest before the note starting on the beat (a phrase start).
+    pub rest_weight: f64,
+    /// Shortest rest that counts, in beats.
+    pub min_rest_beats: f64,
 }
 
 impl Default for MeterConfig {
@@ -74,6 +80,8 @@ impl Default for MeterConfig {
             subdivision_min_bpm: 130.0,
             subdivision_penalty: 1.0,
             note_tolerance_s: 0.07,
+            rest_weight: 1.0,
+            min_rest_beats: 0.5,
         }
     }
 }
@@ -259,6 +267,7 @@ fn beat_strengths(
     if let Some(notes) = notes.filter(|n| !n.is_empty()) {
         let mut duration = Vec::with_capacity(n);
         let mut change = Vec::with_capacity(n);
+        let mut rest = Vec::with_capacity(n);
         for (i, &b) in beats_s.iter().enumerate() {
             let starting = notes
                 .iter()
@@ -270,16 +279,28 @@ fn beat_strengths(
                     duration.push(((note.offset_s - note.onset_s) / ibi(i)).max(0.125).log2());
                     let changed = k == 0 || notes[k - 1].midi != note.midi;
                     change.push(if changed { 1.0 } else { 0.0 });
+                    let gap = if k == 0 {
+                        f64::INFINITY
+                    } else {
+                        note.onset_s - notes[k - 1].offset_s
+                    };
+                    rest.push(if gap >= cfg.min_rest_beats * ibi(i) {
+                        1.0
+                    } else {
+                        0.0
+                    });
                 }
                 None => {
                     let held = notes.iter().any(|x| x.onset_s < b && x.offset_s > b);
                     duration.push(if held { -1.0 } else { 0.0 });
                     change.push(0.0);
+                    rest.push(0.0);
                 }
             }
         }
         add_scaled(&mut strength, &duration, cfg.duration_weight);
         add_scaled(&mut strength, &change, cfg.change_weight);
+        add_scaled(&mut strength, &rest, cfg.rest_weight);
     }
     strength
 }
@@ -329,6 +350,42 @@ mod tests {
             assert_eq!(est.meter.beats_per_bar as usize, m);
             assert!((est.downbeats_s[0] - beats[offset]).abs() < 1e-9);
         }
+    }
+
+    #[test]
+    fn rests_before_notes_mark_phrase_starts() {
+        // Flat onset curves; a note on every beat, and a 0.3 s rest after the notes on beats
+        // 1, 4, 7, …: the notes on beats 2, 5, 8, … start phrases. The short notes make
+        // beats 1, 4, … weak, which alone cannot tell phase 2 from phase 0.
+        let flat = OnsetEnvelope {
+            hop_s: 0.01,
+            mean: vec![1.0; 3000],
+            median: vec![1.0; 3000],
+            loudness_db: vec![0.0; 3000],
+        };
+        let beats: Vec<f64> = (0..48).map(|i| 0.5 + 0.5 * i as f64).collect();
+        let notes: Vec<Note> = beats
+            .iter()
+            .enumerate()
+            .map(|(i, &b)| Note {
+                onset_s: b,
+                offset_s: b + if i % 3 == 1 { 0.2 } else { 0.5 },
+                midi: 69,
+            })
+            .collect();
+        let est = estimate_meter(&beats, &flat, Some(&notes), 120.0, &MeterConfig::default());
+        assert_eq!(est.meter.beats_per_bar, 3);
+        assert!(
+            (est.downbeats_s[0] - beats[2]).abs() < 1e-9,
+            "{:?}",
+            est.downbeats_s
+        );
+        let without = MeterConfig {
+            rest_weight: 0.0,
+            ..MeterConfig::default()
+        };
+        let est = estimate_meter(&beats, &flat, Some(&notes), 120.0, &without);
+        assert!((est.downbeats_s[0] - beats[2]).abs() > 1e-9);
     }
 
     #[test]

@@ -38,6 +38,10 @@ pub struct NoteConfig {
     pub onset_window_s: f64,
     /// How far back the start of a run may move to an attack peak, in seconds.
     pub onset_snap_s: f64,
+    /// The segmentation's latency, subtracted from every onset and offset, in seconds: the
+    /// pitch path crosses the midpoint of a change after the change began (pYIN's frame
+    /// spans ±23 ms, a slur glide takes 20–30 ms) and novelty peaks sit on the attack's rise.
+    pub latency_s: f64,
     /// The novelty function.
     pub novelty: NoveltyConfig,
 }
@@ -53,6 +57,7 @@ impl Default for NoteConfig {
             onset_floor_db: 2.0,
             onset_window_s: 0.05,
             onset_snap_s: 0.06,
+            latency_s: 0.015,
             novelty: NoveltyConfig::default(),
         }
     }
@@ -82,6 +87,9 @@ impl Default for NoteConfig {
 ///    recording's level (a re-attack rises by 3–10 dB, vibrato by well under 1 dB).
 /// 6. **Attacks.** pYIN declares voicing a little after a note starts from silence; the
 ///    first note of a run moves back to a novelty peak within [`NoteConfig::onset_snap_s`].
+/// 7. **Latency.** Every onset and offset moves [`NoteConfig::latency_s`] earlier: change
+///    points found on the pitch path lag the start of the change (median +14 to +21 ms on
+///    the labelled corpus, in both renderers and for slurred and re-bowed changes alike).
 ///
 /// ```
 /// use pitch_track::{segment_notes, NoteConfig, PitchConfig, PitchTracker};
@@ -134,6 +142,12 @@ pub fn segment_notes_with_novelty(
             track.hop_s
         )));
     }
+    if !(cfg.latency_s.is_finite() && cfg.latency_s >= 0.0) {
+        return Err(PitchError::InvalidConfig(format!(
+            "latency_s must be a finite number ≥ 0 s, got {}",
+            cfg.latency_s
+        )));
+    }
     let frames = |s: f64| ((s / track.hop_s).round() as usize).max(1);
     let min_len = frames(cfg.min_note_s);
     let midi: Vec<Option<f32>> = (0..track.len()).map(|t| track.midi(t)).collect();
@@ -170,6 +184,10 @@ pub fn segment_notes_with_novelty(
             }
             notes.push(note(from, b, seg.pitch, track.hop_s));
         }
+    }
+    for n in &mut notes {
+        n.onset_s = (n.onset_s - cfg.latency_s).max(0.0);
+        n.offset_s = (n.offset_s - cfg.latency_s).max(n.onset_s);
     }
     Ok(notes)
 }
@@ -411,6 +429,43 @@ mod tests {
     fn runs_bridge_short_gaps() {
         let m = [Some(1.0), None, Some(1.0), None, None, None, Some(2.0)];
         assert_eq!(voiced_runs(&m, 1), vec![(0, 3), (6, 7)]);
+    }
+
+    #[test]
+    fn latency_moves_notes_earlier_and_must_be_valid() {
+        let track = PitchTrack {
+            hop_s: 0.01,
+            f0_hz: vec![440.0; 100],
+            voiced_prob: vec![1.0; 100],
+        };
+        let novelty = vec![0.0; 100];
+        let cfg = NoteConfig {
+            latency_s: 0.0,
+            ..NoteConfig::default()
+        };
+        let plain = segment_notes_with_novelty(&track, &novelty, &cfg).unwrap();
+        let shifted = segment_notes_with_novelty(
+            &track,
+            &novelty,
+            &NoteConfig {
+                latency_s: 0.02,
+                ..cfg.clone()
+            },
+        )
+        .unwrap();
+        assert_eq!(plain.len(), 1);
+        assert!((plain[0].offset_s - shifted[0].offset_s - 0.02).abs() < 1e-9);
+        assert_eq!(shifted[0].onset_s, 0.0);
+        for bad in [-0.01, f64::NAN] {
+            let bad_cfg = NoteConfig {
+                latency_s: bad,
+                ..cfg.clone()
+            };
+            assert!(matches!(
+                segment_notes_with_novelty(&track, &novelty, &bad_cfg),
+                Err(PitchError::InvalidConfig(_))
+            ));
+        }
     }
 
     #[test]
