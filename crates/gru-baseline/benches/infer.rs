@@ -1,46 +1,51 @@
-//! Method 1 inference on 180 s: the network alone on precomputed mel frames (5 400 frames,
-//! one stream, state carried across 30 s chunks), and the whole `generate` from 44.1 kHz
-//! audio (resample + mel + network); plus one training update (16 × 150 frames).
+//! Method 1 on 180 s of rendered violin (a corpus étude, built-in synthesizer, 44.1 kHz):
+//! the network alone on its mel frames (5 400 frames) — chunked as `Chunking::default()`
+//! says (the default) and sequential — and the whole `generate` (resample + mel + network);
+//! plus one training update (16 × 150 frames, forward + backward + Adam).
 //!
 //! `cargo bench -p gru-baseline --bench infer`
 #![allow(clippy::unwrap_used, clippy::expect_used, missing_docs)]
 
 use candle_core::{DType, Device, Tensor};
+use corpus::etude::EtudeConfig;
+use corpus::item::{make_item, RendererKind};
+use corpus::render::BowedStringSynth;
 use criterion::{criterion_group, criterion_main, Criterion};
+use gru_baseline::features::mel_frames;
 use gru_baseline::train::Adam;
 use gru_baseline::{Config, GruBaseline, Loss};
-use ndarray::Array2;
-
-fn mel_180s() -> Array2<f32> {
-    Array2::from_shape_fn((5400, 128), |(t, b)| {
-        -40.0 + 20.0 * ((t as f32 * 0.37).sin() * (b as f32 * 0.11).cos())
-    })
-}
 
 fn audio_180s() -> dsp_mel::Audio {
-    let rate = 44_100u32;
-    let mut phase = 0f32;
-    let samples = (0..rate as usize * 180)
-        .map(|i| {
-            let t = i as f32 / rate as f32;
-            phase = (phase + 196.0 * (1.0 + 0.5 * (0.05 * t).sin()) / rate as f32).fract();
-            (1..6)
-                .map(|h| (std::f32::consts::TAU * phase * h as f32).sin() / h as f32)
-                .sum::<f32>()
-                * 0.2
-        })
-        .collect();
-    dsp_mel::Audio::new(samples, rate).unwrap()
+    let etude = EtudeConfig {
+        target_s: 185.0,
+        ..EtudeConfig::default()
+    };
+    let item = make_item(
+        8,
+        &etude,
+        &BowedStringSynth::default(),
+        RendererKind::Builtin,
+        false,
+    )
+    .unwrap();
+    let audio = dsp_mel::Audio::new(item.audio, item.augmentation.sample_rate_hz).unwrap();
+    let audio = dsp_mel::resample(&audio, 44_100).unwrap();
+    let samples = audio.samples()[..44_100 * 180].to_vec();
+    dsp_mel::Audio::new(samples, 44_100).unwrap()
 }
 
 fn bench(c: &mut Criterion) {
     let net = GruBaseline::pretrained().unwrap();
-    let mel = mel_180s();
     let audio = audio_180s();
+    let mel = mel_frames(&audio).unwrap();
+    assert_eq!(mel.nrows(), 5401);
     let mut group = c.benchmark_group("gru-baseline");
     group.sample_size(10);
     group.bench_function("predict_mel_180s", |b| {
         b.iter(|| net.predict_mel(mel.view()).unwrap())
+    });
+    group.bench_function("predict_180s_sequential", |b| {
+        b.iter(|| net.predict_normalized_exact(mel.view()).unwrap())
     });
     group.bench_function("generate_180s_audio_44k", |b| {
         b.iter(|| net.generate(&audio).unwrap())
@@ -64,7 +69,7 @@ fn bench(c: &mut Criterion) {
     let x = Tensor::from_vec(
         mel.iter()
             .take(16 * 150 * 128)
-            .copied()
+            .map(|v| (v + 40.0) / 20.0)
             .collect::<Vec<f32>>(),
         (16, 150, 128),
         &Device::Cpu,

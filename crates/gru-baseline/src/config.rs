@@ -4,6 +4,12 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{GruError, Result};
 
+/// Longest output delay accepted, frames (10 s).
+pub const MAX_LOOKAHEAD_FRAMES: usize = 300;
+
+/// Output delay of [`Config::default`], frames (see [`Config::lookahead_frames`]).
+pub const DEFAULT_LOOKAHEAD_FRAMES: usize = 30;
+
 /// Sizes of the Method 1 network: mel bands in, stacked GRU widths, dropout, joints out.
 ///
 /// The default is SPEC §8: 128 bands → GRU 256 → dropout .3 → GRU 512 → dropout .3 →
@@ -24,6 +30,12 @@ pub struct Config {
     pub dropout: f32,
     /// Joints predicted (x and y each), in `skeleton::Joint::ALL` order.
     pub joints: usize,
+    /// Output delay, frames: the output at input frame `t` is the pose of frame
+    /// `t − lookahead_frames`, so each pose is predicted having heard that much of what follows
+    /// (inputs are padded at the end to flush the last poses). The layers are unchanged; 0 is
+    /// the strictly causal network.
+    #[serde(default)]
+    pub lookahead_frames: usize,
 }
 
 impl Default for Config {
@@ -33,6 +45,7 @@ impl Default for Config {
             hidden: vec![256, 512, 256],
             dropout: 0.3,
             joints: skeleton::JOINT_COUNT,
+            lookahead_frames: DEFAULT_LOOKAHEAD_FRAMES,
         }
     }
 }
@@ -63,6 +76,12 @@ impl Config {
                 self.dropout
             )));
         }
+        if self.lookahead_frames > MAX_LOOKAHEAD_FRAMES {
+            return Err(GruError::Config(format!(
+                "lookahead {} frames must be at most {MAX_LOOKAHEAD_FRAMES}",
+                self.lookahead_frames
+            )));
+        }
         if self.joints != skeleton::JOINT_COUNT {
             return Err(GruError::Config(format!(
                 "joints {} must be {} (the skeleton's joint set)",
@@ -82,5 +101,44 @@ impl Config {
             input = h;
         }
         count + input * self.outputs() + self.outputs()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn validate_names_the_bad_size() {
+        assert!(Config::default().validate().is_ok());
+        let cases = [
+            Config {
+                n_mels: 0,
+                ..Config::default()
+            },
+            Config {
+                hidden: vec![],
+                ..Config::default()
+            },
+            Config {
+                dropout: 1.0,
+                ..Config::default()
+            },
+            Config {
+                joints: 9,
+                ..Config::default()
+            },
+            Config {
+                lookahead_frames: MAX_LOOKAHEAD_FRAMES + 1,
+                ..Config::default()
+            },
+        ];
+        for (cfg, word) in cases
+            .iter()
+            .zip(["n_mels", "hidden", "dropout", "joints", "lookahead"])
+        {
+            let e = cfg.validate().unwrap_err().to_string();
+            assert!(e.contains(word), "{e}");
+        }
     }
 }

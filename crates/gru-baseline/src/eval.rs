@@ -12,9 +12,9 @@ use crate::model::GruBaseline;
 /// Scores over a set of sequences (frame-weighted).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Scores {
-    /// The training loss (its own weights), on normalised joints.
+    /// The training loss (its own weights), in the network's standardised units.
     pub loss: f64,
-    /// Plain MSE on normalised joints.
+    /// Plain MSE on per-video normalised joints (torso lengths²).
     pub mse: f64,
     /// Mean |error| per coordinate in pixels, each video de-normalised with its own centre
     /// and torso length.
@@ -65,7 +65,12 @@ pub fn evaluate(net: &GruBaseline, seqs: &[Sequence], loss: &Loss) -> Result<Sco
     let (mut l, mut m, mut l1, mut frames) = (0f64, 0f64, 0f64, 0usize);
     for (seq, pred) in seqs.iter().zip(&preds) {
         let n = seq.len();
-        l += loss.compute_array(pred.view(), seq.joints.view())? * n as f64;
+        let space = net.target_space();
+        let (z_pred, z_true) = (
+            space.standardize(pred.view()),
+            space.standardize(seq.joints.view()),
+        );
+        l += loss.compute_array(z_pred.view(), z_true.view())? * n as f64;
         m += mse.compute_array(pred.view(), seq.joints.view())? * n as f64;
         let abs: f64 = (pred - &seq.joints)
             .mapv(|v| f64::from(v.abs()))

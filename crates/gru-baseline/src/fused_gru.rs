@@ -22,9 +22,9 @@ use crate::recurrence::GruRecurrence;
 /// let vars = VarMap::new();
 /// let vb = VarBuilder::from_varmap(&vars, DType::F32, &Device::Cpu);
 /// let gru = gru_baseline::FusedGru::new(4, 8, vb)?;
-/// let x = Tensor::zeros((5, 2, 4), DType::F32, &Device::Cpu)?; // (time, batch, in)
+/// let x = Tensor::zeros((2, 5, 4), DType::F32, &Device::Cpu)?; // (batch, time, in)
 /// let h = gru.forward(&x, None)?;
-/// assert_eq!(h.dims(), &[5, 2, 8]);
+/// assert_eq!(h.dims(), &[2, 5, 8]);
 /// # Ok::<(), gru_baseline::GruError>(())
 /// ```
 #[derive(Debug, Clone)]
@@ -66,16 +66,16 @@ impl FusedGru {
         self.hidden
     }
 
-    /// Runs the layer over `x` `(T, B, in)` (time-major) from `h0` `(B, H)` (zeros when
-    /// `None`; treated as a constant, as in truncated back-propagation through time) and
-    /// returns every hidden state, `(T, B, H)`. The last one, `out.get(T - 1)`, is the state to
-    /// carry into the next chunk.
+    /// Runs the layer over `x` `(B, T, in)` (batch-major, like candle's `rnn::RNN::seq`) from
+    /// `h0` `(B, H)` (zeros when `None`; treated as a constant, as in truncated
+    /// back-propagation through time) and returns every hidden state, `(B, T, H)`. The last
+    /// one, [`FusedGru::last_state`], is the state to carry into the next chunk.
     pub fn forward(&self, x: &Tensor, h0: Option<&Tensor>) -> Result<Tensor> {
-        let (steps, batch, in_dim) = x.dims3()?;
+        let (batch, steps, in_dim) = x.dims3()?;
         if in_dim != self.in_dim {
             return Err(GruError::Shape {
                 what: "GRU input".into(),
-                expected: format!("(time, batch, {})", self.in_dim),
+                expected: format!("(batch, time, {})", self.in_dim),
                 got: format!("{:?}", x.dims()),
             });
         }
@@ -84,10 +84,11 @@ impl FusedGru {
         }
         let h = self.hidden;
         let xw = x
-            .reshape((steps * batch, in_dim))?
+            .contiguous()?
+            .reshape((batch * steps, in_dim))?
             .matmul(&self.w_ih.t()?)?
             .broadcast_add(&self.b_ih)?
-            .reshape((steps, batch, 3 * h))?
+            .reshape((batch, steps, 3 * h))?
             .contiguous()?;
         let h0 = match h0 {
             None => None,
@@ -114,8 +115,12 @@ impl FusedGru {
 
     /// The last hidden state of an output of [`FusedGru::forward`], detached: `(B, H)`.
     pub fn last_state(out: &Tensor) -> Result<Tensor> {
-        let steps = out.dim(0)?;
-        Ok(out.get(steps - 1)?.detach().contiguous()?)
+        let steps = out.dim(1)?;
+        Ok(out
+            .narrow(1, steps - 1, 1)?
+            .squeeze(1)?
+            .detach()
+            .contiguous()?)
     }
 
     /// The parameters, for optimizers and checks: `[w_ih, w_hh, b_ih, b_hh]`.

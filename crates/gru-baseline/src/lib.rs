@@ -4,20 +4,24 @@
 //! one recurrent network maps each 30 fps, 128-band mel frame straight to the ten joints.
 //!
 //! * **Network** ([`GruBaseline`], [`Config`]): GRU 256 → dropout .3 → GRU 512 → dropout .3 →
-//!   GRU 256 → dropout .3 → dense 20, on candle. Each GRU layer is a [`FusedGru`]: the input
-//!   projection of all time steps is one matmul and the recurrence one custom op with a
-//!   hand-written backward pass, numerically equal to candle's `rnn::GRU` (tests).
+//!   GRU 256 → dropout .3 → dense 20, on candle, with an optional output delay
+//!   ([`Config::lookahead_frames`]). Each GRU layer is a [`FusedGru`]: the input projection of
+//!   all time steps is one matmul and the recurrence one custom op with a hand-written
+//!   backward pass, numerically equal to candle's `rnn::GRU` (tests).
 //! * **Normalisation** ([`norm`]): mel bands standardised with training statistics; joints
-//!   centred on each video's mean position and divided by its mean torso length; outputs
-//!   de-normalised into the training targets' image space (Method 2's 1280×720 camera for the
-//!   shipped weights), so the two methods' motions overlay.
+//!   centred on each video's trunk and divided by its mean torso length, then each coordinate
+//!   standardised; outputs de-normalised into the training targets' image space (Method 2's
+//!   1280×720 camera for the shipped weights), so the two methods' motions overlay.
 //! * **Loss** ([`Loss`]): MSE, or the per-coordinate weighted MSE with 3× weight on the right
 //!   shoulder, elbow and wrist (default).
 //! * **Data** ([`data`]): the synthetic corpus or URMP + OpenPose.
 //! * **Training** ([`train`]): truncated BPTT over windows of parallel streams that carry
 //!   their state, Adam, clipping, validation, best-weights saving, checkpoints, `--resume`.
-//! * **Inference** ([`GruBaseline::generate`]): audio → [`skeleton::Motion`] at 30 fps in
-//!   chunks that carry the GRU state; [`GruBaseline::pretrained`] embeds the default weights.
+//! * **Inference** ([`GruBaseline::generate`]): audio → [`skeleton::Motion`] at 30 fps. A
+//!   recording is cut into chunks that run side by side as one batch, each with a warm-up
+//!   ([`Chunking`], [`chunking`]), the batch rows split over the cores;
+//!   [`GruBaseline::predict_normalized_exact`] is the sequential run.
+//!   [`GruBaseline::pretrained`] embeds the default weights.
 //!
 //! ```
 //! let net = gru_baseline::GruBaseline::pretrained()?;
@@ -28,6 +32,7 @@
 //! # Ok::<(), gru_baseline::GruError>(())
 //! ```
 
+pub mod chunking;
 mod config;
 pub mod data;
 mod error;
@@ -35,15 +40,16 @@ pub mod eval;
 pub mod features;
 mod fused_gru;
 mod infer;
-mod kernels;
 mod loss;
 mod model;
 pub mod norm;
+mod packed;
 mod recurrence;
 pub mod train;
 mod weights;
 
-pub use config::Config;
+pub use chunking::{Chunk, Chunking, DEFAULT_WARMUP_FRAMES};
+pub use config::{Config, DEFAULT_LOOKAHEAD_FRAMES, MAX_LOOKAHEAD_FRAMES};
 pub use error::{GruError, Result};
 pub use fused_gru::FusedGru;
 pub use infer::CHUNK_FRAMES;

@@ -136,6 +136,16 @@ impl GruBaseline {
         Ok(vars)
     }
 
+    /// The stacked GRU layers, input side first.
+    pub(crate) fn layers(&self) -> &[FusedGru] {
+        &self.layers
+    }
+
+    /// The dense output layer.
+    pub(crate) fn head(&self) -> &Linear {
+        &self.head
+    }
+
     /// The network's sizes.
     pub fn config(&self) -> &Config {
         &self.cfg
@@ -170,12 +180,12 @@ impl GruBaseline {
             .chain(&mel_stats.std)
             .any(|v| !v.is_finite())
             || mel_stats.std.iter().any(|&s| s <= 0.0)
-            || !(target.torso_px.is_finite() && target.torso_px > 0.0)
         {
             return Err(GruError::Config(
-                "normalisation values must be finite with positive scales".into(),
+                "mel normalisation values must be finite with positive scales".into(),
             ));
         }
+        target.validate()?;
         self.mel_stats = mel_stats;
         self.target = target;
         Ok(())
@@ -222,7 +232,7 @@ impl GruBaseline {
                 });
             }
         }
-        let mut h = x.transpose(0, 1)?.contiguous()?;
+        let mut h = x.clone();
         let mut finals = Vec::with_capacity(self.layers.len());
         for (l, layer) in self.layers.iter().enumerate() {
             h = layer.forward(&h, state.map(|s| &s.layers[l]))?;
@@ -234,10 +244,8 @@ impl GruBaseline {
         let last = h.dim(2)?;
         let y = self
             .head
-            .forward(&h.reshape((steps * batch, last))?)?
-            .reshape((steps, batch, self.cfg.outputs()))?
-            .transpose(0, 1)?
-            .contiguous()?;
+            .forward(&h.reshape((batch * steps, last))?)?
+            .reshape((batch, steps, self.cfg.outputs()))?;
         Ok((y, GruState { layers: finals }))
     }
 

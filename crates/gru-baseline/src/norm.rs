@@ -2,14 +2,23 @@
 //!
 //! * **Mel**: each band is standardised with the mean and standard deviation of that band
 //!   over all training frames ([`MelStats`]), stored with the weights.
-//! * **Joints**: each video is normalised on its own ([`VideoNorm`]): subtract the video's
-//!   mean joint position (one x and one y over all frames and joints, as SPEC §3 step 4) and
-//!   divide by the video's mean **torso length** (neck to the midpoint of the hips, in
-//!   pixels). The torso is the most rigid, least foreshortened span in front views of a
-//!   standing violinist, so the scale does not move with the bowing arm. Outputs are turned
-//!   back into pixels with the training targets' mean centre and torso length
-//!   ([`TargetSpace`]), i.e. the image space of the training videos (the corpus renders them
-//!   with Method 2's camera, 1280×720), so Method 1's output overlays Method 2's.
+//! * **Joints**: each video is normalised on its own ([`VideoNorm`]): subtract the mean
+//!   position of the video's **trunk** (neck, both shoulders, both hips, over all frames: one
+//!   x and one y) and divide by the video's mean **torso length** (neck to the midpoint of the
+//!   hips, in pixels). The torso is the most rigid, least foreshortened span in front views of
+//!   a standing violinist, so neither centre nor scale moves with the bowing arm. (SPEC §3
+//!   step 4 centres a video on the mean of *all* joints; for a training target that mean is
+//!   wrong: it depends on what the bowing arm did in that particular video, so every target
+//!   coordinate — hips included — carries a per-video offset no model can hear. Measured on
+//!   corpus-mix: crate README.)
+//! * **Coordinates**: the network predicts each of the 20 normalised coordinates standardised
+//!   with its mean and standard deviation over the training frames ([`TargetSpace`]), so the
+//!   left hand (a few pixels of motion, fully determined by the notes) weighs as much in the
+//!   loss as the bowing arm (a hundred pixels, mostly its unknowable direction).
+//! * **Output**: predictions are turned back into pixels with the training targets' mean
+//!   centre and torso length ([`TargetSpace`]), i.e. the image space of the training videos
+//!   (the corpus renders them with Method 2's camera, 1280×720), so Method 1's output
+//!   overlays Method 2's.
 
 use ndarray::{Array2, ArrayView2, Axis};
 use serde::{Deserialize, Serialize};
@@ -19,6 +28,19 @@ use crate::error::{GruError, Result};
 
 /// Smallest standard deviation used for a band (dB), so silent bands do not explode.
 pub const MIN_BAND_STD_DB: f32 = 1e-3;
+
+/// Smallest standard deviation used for a target coordinate (torso lengths, ≈ 2.7 px on the
+/// corpus camera), so a joint that barely moves does not dominate the loss.
+pub const MIN_COORD_STD: f32 = 0.01;
+
+/// The joints whose mean position centres a video: the trunk.
+pub const TRUNK_JOINTS: [Joint; 5] = [
+    Joint::Neck,
+    Joint::RShoulder,
+    Joint::LShoulder,
+    Joint::RHip,
+    Joint::LHip,
+];
 
 /// Per-band mean and standard deviation of the training mel frames (dB).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -104,10 +126,10 @@ impl MelStats {
     }
 }
 
-/// One video's joint normalisation: its mean joint position and mean torso length, pixels.
+/// One video's joint normalisation: its trunk's mean position and mean torso length, pixels.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct VideoNorm {
-    /// Mean x and y of all joints over all frames.
+    /// Mean x and y of the [`TRUNK_JOINTS`] over all frames.
     pub center_px: [f32; 2],
     /// Mean distance from the neck to the midpoint of the hips.
     pub torso_px: f32,
@@ -119,16 +141,21 @@ impl VideoNorm {
         if motion.is_empty() {
             return Err(GruError::Empty("motion".into()));
         }
-        let (cx, cy) = motion.mean_xy();
         let f = motion.frames();
         let mut torso = 0.0f64;
+        let mut center = [0.0f64; 2];
         for t in 0..motion.len() {
             let p = |j: Joint, d: usize| f64::from(f[[t, j.index(), d]]);
+            for (d, c) in center.iter_mut().enumerate() {
+                *c += TRUNK_JOINTS.iter().map(|&j| p(j, d)).sum::<f64>();
+            }
             let hx = 0.5 * (p(Joint::RHip, 0) + p(Joint::LHip, 0));
             let hy = 0.5 * (p(Joint::RHip, 1) + p(Joint::LHip, 1));
             torso += (p(Joint::Neck, 0) - hx).hypot(p(Joint::Neck, 1) - hy);
         }
         let torso_px = (torso / motion.len() as f64) as f32;
+        let n = (motion.len() * TRUNK_JOINTS.len()) as f64;
+        let (cx, cy) = ((center[0] / n) as f32, (center[1] / n) as f32);
         if !(torso_px.is_finite() && torso_px > 1e-3 && cx.is_finite() && cy.is_finite()) {
             return Err(GruError::Config(format!(
                 "the motion has no measurable torso (mean neck-to-hips length {torso_px} px); joints must be in pixels"
@@ -155,8 +182,8 @@ impl VideoNorm {
     }
 }
 
-/// Where de-normalised outputs go: the mean centre and torso length of the training targets,
-/// and their image size.
+/// Where de-normalised outputs go — the mean centre and torso length of the training
+/// targets, and their image size — and how the network's outputs are standardised.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct TargetSpace {
     /// Mean of the training videos' centres, pixels.
@@ -165,22 +192,46 @@ pub struct TargetSpace {
     pub torso_px: f32,
     /// Image size of the training videos, when they all share one.
     pub image_size: Option<(u32, u32)>,
+    /// Mean of each normalised coordinate over the training frames (20 values; empty in
+    /// weights of format 1: no standardisation).
+    #[serde(default)]
+    pub coord_mean: Vec<f32>,
+    /// Standard deviation of each normalised coordinate (at least [`MIN_COORD_STD`]; empty:
+    /// none). The network predicts `(y − coord_mean) / coord_std`.
+    #[serde(default)]
+    pub coord_std: Vec<f32>,
 }
 
 impl Default for TargetSpace {
-    /// The corpus camera: 1280×720, centre of the frame, a 230 px torso.
+    /// The corpus camera: 1280×720, centre of the frame, a 230 px torso; no standardisation.
     fn default() -> Self {
         Self {
             center_px: [640.0, 360.0],
             torso_px: 230.0,
             image_size: Some((1280, 720)),
+            coord_mean: Vec::new(),
+            coord_std: Vec::new(),
         }
     }
 }
 
 impl TargetSpace {
-    /// The mean of `videos` (and their shared image size).
-    pub fn of(videos: &[(VideoNorm, Option<(u32, u32)>)]) -> Result<Self> {
+    /// The mean of `videos` (and their shared image size), and the statistics of every
+    /// coordinate over all frames of `joints` (each `(frames, 20)`, normalised per video).
+    ///
+    /// ```
+    /// use gru_baseline::{TargetSpace, VideoNorm};
+    /// let video = VideoNorm { center_px: [600.0, 300.0], torso_px: 250.0 };
+    /// let joints = ndarray::Array2::from_shape_fn((4, 20), |(t, k)| (t * k) as f32 * 0.01);
+    /// let space = TargetSpace::of(&[(video, None)], [joints.view()])?;
+    /// assert_eq!(space.coord_mean[1], 0.015);
+    /// assert_eq!(space.coord_std[0], gru_baseline::norm::MIN_COORD_STD);
+    /// # Ok::<(), gru_baseline::GruError>(())
+    /// ```
+    pub fn of<'a>(
+        videos: &[(VideoNorm, Option<(u32, u32)>)],
+        joints: impl IntoIterator<Item = ArrayView2<'a, f32>>,
+    ) -> Result<Self> {
         if videos.is_empty() {
             return Err(GruError::Empty("training videos".into()));
         }
@@ -194,11 +245,75 @@ impl TargetSpace {
         } else {
             None
         };
+        let stats = MelStats::of(joints)?;
+        if stats.bands() != 2 * JOINT_COUNT {
+            return Err(GruError::Shape {
+                what: "training joints".into(),
+                expected: format!("(frames, {})", 2 * JOINT_COUNT),
+                got: format!("{} columns", stats.bands()),
+            });
+        }
         Ok(Self {
             center_px: [cx, cy],
             torso_px: torso,
             image_size,
+            coord_std: stats.std.iter().map(|s| s.max(MIN_COORD_STD)).collect(),
+            coord_mean: stats.mean,
         })
+    }
+
+    /// Checks sizes and values (finite, positive scales; 0 or 20 coordinate statistics).
+    pub fn validate(&self) -> Result<()> {
+        let k = self.coord_mean.len();
+        if self.coord_std.len() != k || (k != 0 && k != 2 * JOINT_COUNT) {
+            return Err(GruError::Config(format!(
+                "target statistics have {} means and {} deviations; expected 0 or {} of each",
+                k,
+                self.coord_std.len(),
+                2 * JOINT_COUNT
+            )));
+        }
+        let finite = self
+            .center_px
+            .iter()
+            .chain(&self.coord_mean)
+            .all(|v| v.is_finite());
+        let positive = std::iter::once(&self.torso_px)
+            .chain(&self.coord_std)
+            .all(|v| v.is_finite() && *v > 0.0);
+        if !(finite && positive) {
+            return Err(GruError::Config(
+                "target normalisation values must be finite with positive scales".into(),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Per-video normalised joints `(frames, 20)` → the network's standardised units.
+    pub fn standardize(&self, joints: ArrayView2<f32>) -> Array2<f32> {
+        let mut out = joints.to_owned();
+        if self.coord_mean.is_empty() {
+            return out;
+        }
+        for mut row in out.rows_mut() {
+            for ((v, m), s) in row.iter_mut().zip(&self.coord_mean).zip(&self.coord_std) {
+                *v = (*v - m) / s;
+            }
+        }
+        out
+    }
+
+    /// The inverse of [`TargetSpace::standardize`], in place.
+    pub fn destandardize(&self, mut outputs: Array2<f32>) -> Array2<f32> {
+        if self.coord_mean.is_empty() {
+            return outputs;
+        }
+        for mut row in outputs.rows_mut() {
+            for ((v, m), s) in row.iter_mut().zip(&self.coord_mean).zip(&self.coord_std) {
+                *v = *v * s + m;
+            }
+        }
+        outputs
     }
 
     /// Turns normalised `(frames, 20)` predictions into a 30 fps [`Motion`] in pixels.

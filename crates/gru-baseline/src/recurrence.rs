@@ -1,25 +1,31 @@
 //! The GRU recurrence over all time steps as ONE candle custom op, with a hand-written
-//! backward pass (back-propagation through time).
+//! backward pass (back-propagation through time), and the plain-slice loops behind it that
+//! inference uses directly.
 //!
 //! Built from candle's ordinary ops, a GRU unrolled over `T` steps makes ~15 graph nodes
 //! per step and layer; candle's backward of each per-step slice of the input projection
 //! allocates and adds a tensor as large as the whole sequence (O(T²) work), and its graph
 //! walk recurses once per node. This op keeps the graph at one node per layer: the forward
-//! runs the loop on plain slices (one `(B × H) @ (H × 3H)` matmul per step), the backward
-//! recomputes the gates with one `(T·B × H) @ (H × 3H)` matmul, walks back in time with one
-//! `(B × 3H) @ (3H × H)` matmul per step, and gets `∂L/∂W_hh` with one final matmul.
+//! runs the loop on plain slices (one `(B × H) · (H × 3H)` product per step against a
+//! matrix packed once, [`PackedMatrix`]), the backward recomputes the gates with one
+//! `(T·B × H) · (H × 3H)` matmul, walks back in time with one `(B × 3H) · (3H × H)` product
+//! per step, and gets `∂L/∂W_hh` with one final matmul. Batch rows are independent, so both
+//! directions split them over the rayon threads (no synchronisation inside the time loop).
 //!
-//! Gates follow PyTorch / candle (`r, z, n` order, `b_hh` inside the reset product):
+//! Layout: **batch-major**, row `b` at step `t` is at `b·T + t`. Gates follow PyTorch /
+//! candle (`r, z, n` order, `b_hh` inside the reset product):
 //! `r = σ(x_r + W_hr h + b_hr)`, `z = σ(x_z + W_hz h + b_hz)`,
 //! `n = tanh(x_n + r ⊙ (W_hn h + b_hn))`, `h' = (1 − z) ⊙ n + z ⊙ h`, where `x = W_ih x_t + b_ih`
 //! is computed for all steps beforehand (see [`crate::FusedGru`]).
 
 use candle_core::{bail, CpuStorage, CustomOp3, Device, Layout, Shape, Tensor};
+use pulp::{Arch, Simd, WithSimd};
+use rayon::prelude::*;
 
-use crate::kernels::{matmul_bt, SMALL_BATCH_ROWS};
+use crate::packed::PackedMatrix;
 
-/// The recurrence of one GRU layer: inputs `xw` `(T, B, 3H)` (input projection incl. `b_ih`),
-/// `w_hh` `(3H, H)`, `b_hh` `(3H)`; output all hidden states `(T, B, H)`.
+/// The recurrence of one GRU layer: inputs `xw` `(B, T, 3H)` (input projection incl. `b_ih`),
+/// `w_hh` `(3H, H)`, `b_hh` `(3H)`; output all hidden states `(B, T, H)`.
 pub(crate) struct GruRecurrence {
     pub steps: usize,
     pub batch: usize,
@@ -28,8 +34,37 @@ pub(crate) struct GruRecurrence {
     pub h0: Option<Vec<f32>>,
 }
 
+/// `eˣ` for f32 without a library call, so loops over it vectorise: `x = n·ln 2 + r`,
+/// `|r| ≤ ln 2 / 2`, Cephes' degree-6 polynomial for `eʳ`, `2ⁿ` built in the exponent bits
+/// (within 2 ulp of `f32::exp` on [-87, 88]; clamped outside).
+#[inline(always)]
+fn fast_exp(x: f32) -> f32 {
+    let x = x.clamp(-87.0, 88.0);
+    let n = (x * std::f32::consts::LOG2_E + 0.5).floor();
+    let r = x - n * 0.693_359_4 + n * 2.121_944_4e-4;
+    let mut p = 1.987_569_1e-4_f32;
+    p = p * r + 1.398_199_9e-3;
+    p = p * r + 8.333_452e-3;
+    p = p * r + 4.166_579_6e-2;
+    p = p * r + 1.666_666_5e-1;
+    p = p * r + 0.5;
+    let y = p * r * r + r + 1.0;
+    // 2ⁿ: adding 1.5·2²³ puts the integer n in the low mantissa bits (no float→int
+    // conversion, which would not vectorise); n + 127 ∈ [1, 254] is the biased exponent.
+    let n_bits = (n + 12_582_912.0).to_bits().wrapping_sub(0x4B40_0000);
+    y * f32::from_bits(n_bits.wrapping_add(127) << 23)
+}
+
+/// The logistic function.
+#[inline(always)]
 fn sigmoid(x: f32) -> f32 {
-    1.0 / (1.0 + (-x).exp())
+    1.0 / (1.0 + fast_exp(-x))
+}
+
+/// `tanh x = 1 − 2 / (e²ˣ + 1)` (absolute error below 1e-7).
+#[inline(always)]
+fn tanh(x: f32) -> f32 {
+    1.0 - 2.0 / (fast_exp(2.0 * x) + 1.0)
 }
 
 fn f32_slice<'a>(s: &'a CpuStorage, l: &Layout, what: &str) -> candle_core::Result<&'a [f32]> {
@@ -43,10 +78,230 @@ fn f32_slice<'a>(s: &'a CpuStorage, l: &Layout, what: &str) -> candle_core::Resu
     }
 }
 
-/// `a (rows × k) @ w (k × n)` where `w` is given as a candle tensor (possibly transposed).
-fn matmul_into(a: &[f32], rows: usize, k: usize, w: &Tensor) -> candle_core::Result<Vec<f32>> {
-    let a = Tensor::from_slice(a, (rows, k), &Device::Cpu)?;
-    a.matmul(w)?.flatten_all()?.to_vec1::<f32>()
+/// Rows per parallel part: the batch split evenly over the rayon threads.
+fn rows_per_part(batch: usize) -> usize {
+    batch.div_ceil(rayon::current_num_threads().clamp(1, batch.max(1)))
+}
+
+/// One step of one row: the new state `h_new` from the input projection `x` `(3H)`, the
+/// recurrent product `gh` `(3H)` (without `b_hh`) and the previous state.
+#[inline(always)]
+fn gate_row(x: &[f32], gh: &[f32], bias: &Biases, h_prev: &[f32], h_new: &mut [f32]) {
+    let hidden = h_prev.len();
+    let (xr, rest) = x.split_at(hidden);
+    let (xz, xn) = rest.split_at(hidden);
+    let (gr, rest) = gh.split_at(hidden);
+    let (gz, gn) = rest.split_at(hidden);
+    let (br, rest) = bias.rz.split_at(hidden);
+    let bz = &rest[..hidden];
+    let (bin, bhn) = (&bias.x_n[..hidden], &bias.h_n[..hidden]);
+    for j in 0..hidden {
+        let r = sigmoid(xr[j] + gr[j] + br[j]);
+        let z = sigmoid(xz[j] + gz[j] + bz[j]);
+        let n = tanh(xn[j] + bin[j] + r * (gn[j] + bhn[j]));
+        h_new[j] = (1.0 - z) * n + z * h_prev[j];
+    }
+}
+
+/// The biases the gates add: `b_ih + b_hh` for `r` and `z`, and `b_in`, `b_hn` apart (`b_hn`
+/// sits inside the reset product).
+pub(crate) struct Biases {
+    rz: Vec<f32>,
+    x_n: Vec<f32>,
+    h_n: Vec<f32>,
+}
+
+impl Biases {
+    /// From `b_hh` `(3H)` and, when the input projection does not include it, `b_ih` `(3H)`.
+    pub fn new(b_hh: &[f32], b_ih: Option<&[f32]>) -> Self {
+        let hidden = b_hh.len() / 3;
+        let zeros = vec![0f32; 3 * hidden];
+        let b_ih = b_ih.unwrap_or(&zeros);
+        Self {
+            rz: (0..2 * hidden).map(|j| b_ih[j] + b_hh[j]).collect(),
+            x_n: b_ih[2 * hidden..].to_vec(),
+            h_n: b_hh[2 * hidden..].to_vec(),
+        }
+    }
+}
+
+/// The forward loop for `rows` rows (batch-major `xw` `(rows, steps, 3H)`, `out`
+/// `(rows, steps, H)`), from `h0` `(rows, H)` or zeros, on the calling thread.
+pub(crate) fn forward_rows(
+    xw: &[f32],
+    h0: Option<&[f32]>,
+    steps: usize,
+    w_hh: &PackedMatrix,
+    bias: &Biases,
+    out: &mut [f32],
+) {
+    Arch::new().dispatch(ForwardLoop {
+        xw,
+        h0,
+        steps,
+        w_hh,
+        bias,
+        out,
+    });
+}
+
+/// [`forward_rows`] as a `pulp` kernel: compiled for the machine's SIMD (AVX2/FMA), so the
+/// element-wise gate loops vectorise, `fast_exp` included.
+struct ForwardLoop<'a> {
+    xw: &'a [f32],
+    h0: Option<&'a [f32]>,
+    steps: usize,
+    w_hh: &'a PackedMatrix,
+    bias: &'a Biases,
+    out: &'a mut [f32],
+}
+
+impl WithSimd for ForwardLoop<'_> {
+    type Output = ();
+    #[inline(always)]
+    fn with_simd<S: Simd>(self, _simd: S) {
+        forward_rows_inner(self.xw, self.h0, self.steps, self.w_hh, self.bias, self.out);
+    }
+}
+
+#[inline(always)]
+fn forward_rows_inner(
+    xw: &[f32],
+    h0: Option<&[f32]>,
+    steps: usize,
+    w_hh: &PackedMatrix,
+    bias: &Biases,
+    out: &mut [f32],
+) {
+    let hidden = w_hh.k();
+    let g3 = 3 * hidden;
+    let rows = out.len() / (steps * hidden).max(1);
+    let mut h = match h0 {
+        Some(h0) => h0.to_vec(),
+        None => vec![0f32; rows * hidden],
+    };
+    let mut h_new = vec![0f32; rows * hidden];
+    let mut gh = vec![0f32; rows * g3];
+    for t in 0..steps {
+        w_hh.matmul(&h, rows, &mut gh);
+        for r in 0..rows {
+            let row = r * steps + t;
+            gate_row(
+                &xw[row * g3..][..g3],
+                &gh[r * g3..][..g3],
+                bias,
+                &h[r * hidden..][..hidden],
+                &mut h_new[r * hidden..][..hidden],
+            );
+            out[row * hidden..][..hidden].copy_from_slice(&h_new[r * hidden..][..hidden]);
+        }
+        std::mem::swap(&mut h, &mut h_new);
+    }
+}
+
+/// [`forward_rows`] with the rows split over the rayon threads.
+pub(crate) fn forward_parallel(
+    xw: &[f32],
+    h0: Option<&[f32]>,
+    steps: usize,
+    w_hh: &PackedMatrix,
+    bias: &Biases,
+    out: &mut [f32],
+) {
+    let hidden = w_hh.k();
+    let rows = out.len() / (steps * hidden).max(1);
+    let part = rows_per_part(rows);
+    out.par_chunks_mut(part * steps * hidden)
+        .zip(xw.par_chunks(part * steps * 3 * hidden))
+        .enumerate()
+        .for_each(|(i, (out, xw))| {
+            let h0 = h0.map(|h| {
+                let n = out.len() / (steps * hidden);
+                &h[i * part * hidden..][..n * hidden]
+            });
+            forward_rows(xw, h0, steps, w_hh, bias, out);
+        });
+}
+
+/// What the backward pass of a block of rows reads.
+#[derive(Clone, Copy)]
+struct BackwardInputs<'a> {
+    steps: usize,
+    hidden: usize,
+    xw: &'a [f32],
+    gh: &'a [f32],
+    prev: &'a [f32],
+    d_out: &'a [f32],
+    b_hh: &'a [f32],
+    w_hh: &'a PackedMatrix,
+}
+
+/// Back-propagation through time for a block of rows: fills `d_xw` and `d_gh` (both
+/// `(rows, steps, 3H)`).
+fn backward_rows(inp: &BackwardInputs, d_xw: &mut [f32], d_gh: &mut [f32]) {
+    Arch::new().dispatch(BackwardLoop { inp, d_xw, d_gh });
+}
+
+/// [`backward_rows`] as a `pulp` kernel (see [`ForwardLoop`]).
+struct BackwardLoop<'a, 'b> {
+    inp: &'b BackwardInputs<'a>,
+    d_xw: &'b mut [f32],
+    d_gh: &'b mut [f32],
+}
+
+impl WithSimd for BackwardLoop<'_, '_> {
+    type Output = ();
+    #[inline(always)]
+    fn with_simd<S: Simd>(self, _simd: S) {
+        backward_rows_inner(self.inp, self.d_xw, self.d_gh);
+    }
+}
+
+#[inline(always)]
+fn backward_rows_inner(inp: &BackwardInputs, d_xw: &mut [f32], d_gh: &mut [f32]) {
+    let (steps, hidden) = (inp.steps, inp.hidden);
+    let g3 = 3 * hidden;
+    let rows = d_xw.len() / (steps * g3).max(1);
+    let mut carry = vec![0f32; rows * hidden];
+    let mut direct = vec![0f32; rows * hidden];
+    let mut step_dg = vec![0f32; rows * g3];
+    let mut through_w = vec![0f32; rows * hidden];
+    let b = inp.b_hh;
+    for t in (0..steps).rev() {
+        for r in 0..rows {
+            let row = r * steps + t;
+            let x = &inp.xw[row * g3..][..g3];
+            let g = &inp.gh[row * g3..][..g3];
+            let hp = &inp.prev[row * hidden..][..hidden];
+            let dh_out = &inp.d_out[row * hidden..][..hidden];
+            let dx = &mut d_xw[row * g3..][..g3];
+            let dg = &mut step_dg[r * g3..][..g3];
+            for j in 0..hidden {
+                let dh = dh_out[j] + carry[r * hidden + j];
+                let rg = sigmoid(x[j] + g[j] + b[j]);
+                let z = sigmoid(x[hidden + j] + g[hidden + j] + b[hidden + j]);
+                let ghn = g[2 * hidden + j] + b[2 * hidden + j];
+                let n = tanh(x[2 * hidden + j] + rg * ghn);
+                let dn = dh * (1.0 - z);
+                let dz = dh * (hp[j] - n);
+                let dan = dn * (1.0 - n * n);
+                let dar = dan * ghn * rg * (1.0 - rg);
+                let daz = dz * z * (1.0 - z);
+                dx[j] = dar;
+                dx[hidden + j] = daz;
+                dx[2 * hidden + j] = dan;
+                dg[j] = dar;
+                dg[hidden + j] = daz;
+                dg[2 * hidden + j] = dan * rg;
+                direct[r * hidden + j] = dh * z;
+            }
+            d_gh[row * g3..][..g3].copy_from_slice(dg);
+        }
+        inp.w_hh.matmul(&step_dg, rows, &mut through_w);
+        for ((c, d), w) in carry.iter_mut().zip(&direct).zip(&through_w) {
+            *c = d + w;
+        }
+    }
 }
 
 impl GruRecurrence {
@@ -67,63 +322,18 @@ impl GruRecurrence {
         Ok(())
     }
 
-    /// Previous state of every step, `(T·B, H)`: `h0`, then the outputs of steps 0..T-1.
+    /// Previous state of every step, `(B, T, H)`: `h0`, then the outputs of steps 0..T-1.
     fn previous_states(&self, outputs: &[f32]) -> Vec<f32> {
-        let bh = self.batch * self.hidden;
-        let mut prev = Vec::with_capacity(self.steps * bh);
-        match &self.h0 {
-            Some(h0) => prev.extend_from_slice(h0),
-            None => prev.resize(bh, 0.0),
-        }
-        prev.extend_from_slice(&outputs[..(self.steps - 1) * bh]);
-        prev
-    }
-}
-
-impl GruRecurrence {
-    /// New states `h_new` `(B, H)` from one step's input projection `x` `(B, 3H)`, recurrent
-    /// product `gh` `(B, 3H)` (without `b_hh`) and previous states `h_prev`.
-    fn gates(&self, x: &[f32], gh: &[f32], b_hh: &[f32], h_prev: &[f32], h_new: &mut [f32]) {
-        let (hidden, g3) = (self.hidden, 3 * self.hidden);
+        let (steps, hidden) = (self.steps, self.hidden);
+        let mut prev = vec![0f32; self.batch * steps * hidden];
         for b in 0..self.batch {
-            let x = &x[b * g3..][..g3];
-            let g = &gh[b * g3..][..g3];
-            let hp = &h_prev[b * hidden..][..hidden];
-            let o = &mut h_new[b * hidden..][..hidden];
-            for j in 0..hidden {
-                let r = sigmoid(x[j] + g[j] + b_hh[j]);
-                let z = sigmoid(x[hidden + j] + g[hidden + j] + b_hh[hidden + j]);
-                let n = (x[2 * hidden + j] + r * (g[2 * hidden + j] + b_hh[2 * hidden + j])).tanh();
-                o[j] = (1.0 - z) * n + z * hp[j];
+            let dst = &mut prev[b * steps * hidden..][..steps * hidden];
+            if let Some(h0) = &self.h0 {
+                dst[..hidden].copy_from_slice(&h0[b * hidden..][..hidden]);
             }
+            dst[hidden..].copy_from_slice(&outputs[b * steps * hidden..][..(steps - 1) * hidden]);
         }
-    }
-
-    /// The forward loop for one or two rows (inference): the recurrent product by
-    /// [`matmul_bt`] instead of candle's gemm.
-    fn forward_small_batch(&self, xw: &[f32], w_hh: &[f32], b_hh: &[f32]) -> Vec<f32> {
-        let (steps, batch, hidden) = (self.steps, self.batch, self.hidden);
-        let (g3, bh) = (3 * hidden, batch * hidden);
-        let mut out = vec![0f32; steps * bh];
-        let zeros = vec![0f32; bh];
-        let mut gh = vec![0f32; batch * g3];
-        for t in 0..steps {
-            let (done, rest) = out.split_at_mut(t * bh);
-            let h_prev: &[f32] = if t == 0 {
-                self.h0.as_deref().unwrap_or(&zeros)
-            } else {
-                &done[(t - 1) * bh..]
-            };
-            matmul_bt(h_prev, batch, hidden, w_hh, g3, &mut gh);
-            self.gates(
-                &xw[t * batch * g3..][..batch * g3],
-                &gh,
-                b_hh,
-                h_prev,
-                &mut rest[..bh],
-            );
-        }
-        out
+        prev
     }
 }
 
@@ -146,33 +356,11 @@ impl CustomOp3 for GruRecurrence {
         let b_hh = f32_slice(s3, l3, "b_hh")?;
         self.check(xw.len(), w_hh.len(), b_hh.len())?;
         let (steps, batch, hidden) = (self.steps, self.batch, self.hidden);
-        if batch <= SMALL_BATCH_ROWS {
-            let out = self.forward_small_batch(xw, w_hh, b_hh);
-            return Ok((CpuStorage::F32(out), Shape::from((steps, batch, hidden))));
-        }
-        let g3 = 3 * hidden;
-        // (H × 3H) view of W_hhᵀ, built once.
-        let w_t = Tensor::from_slice(w_hh, (g3, hidden), &Device::Cpu)?.t()?;
-        let bh = batch * hidden;
-        let mut out = vec![0f32; steps * bh];
-        let zeros = vec![0f32; bh];
-        for t in 0..steps {
-            let (done, rest) = out.split_at_mut(t * bh);
-            let h_prev: &[f32] = if t == 0 {
-                self.h0.as_deref().unwrap_or(&zeros)
-            } else {
-                &done[(t - 1) * bh..]
-            };
-            let gh = matmul_into(h_prev, batch, hidden, &w_t)?;
-            self.gates(
-                &xw[t * batch * g3..][..batch * g3],
-                &gh,
-                b_hh,
-                h_prev,
-                &mut rest[..bh],
-            );
-        }
-        Ok((CpuStorage::F32(out), Shape::from((steps, batch, hidden))))
+        let packed = PackedMatrix::from_weight(w_hh, 3 * hidden, hidden);
+        let bias = Biases::new(b_hh, None);
+        let mut out = vec![0f32; batch * steps * hidden];
+        forward_parallel(xw, self.h0.as_deref(), steps, &packed, &bias, &mut out);
+        Ok((CpuStorage::F32(out), Shape::from((batch, steps, hidden))))
     }
 
     fn bwd(
@@ -184,7 +372,7 @@ impl CustomOp3 for GruRecurrence {
         grad_res: &Tensor,
     ) -> candle_core::Result<(Option<Tensor>, Option<Tensor>, Option<Tensor>)> {
         let (steps, batch, hidden) = (self.steps, self.batch, self.hidden);
-        let (g3, bh) = (3 * hidden, batch * hidden);
+        let g3 = 3 * hidden;
         let device = xw.device().clone();
         let xw_v = xw.flatten_all()?.to_vec1::<f32>()?;
         let b_v = b_hh.flatten_all()?.to_vec1::<f32>()?;
@@ -192,58 +380,77 @@ impl CustomOp3 for GruRecurrence {
         let d_out = grad_res.flatten_all()?.to_vec1::<f32>()?;
         self.check(xw_v.len(), w_hh.elem_count(), b_v.len())?;
         let w_cpu = w_hh.to_device(&Device::Cpu)?.contiguous()?;
+        let w_v = w_cpu.flatten_all()?.to_vec1::<f32>()?;
         let prev = self.previous_states(&out);
+        let rows = batch * steps;
         // Recompute W_hh h_{t-1} for every step with one matmul.
-        let gh = matmul_into(&prev, steps * batch, hidden, &w_cpu.t()?)?;
-
-        let mut d_xw = vec![0f32; steps * batch * g3];
-        let mut d_gh = vec![0f32; steps * batch * g3];
-        let mut carry = vec![0f32; bh];
-        let mut direct = vec![0f32; bh];
-        for t in (0..steps).rev() {
-            for b in 0..batch {
-                let row = t * batch + b;
-                let x = &xw_v[row * g3..][..g3];
-                let g = &gh[row * g3..][..g3];
-                let hp = &prev[row * hidden..][..hidden];
-                let dh_out = &d_out[row * hidden..][..hidden];
-                let dx = &mut d_xw[row * g3..][..g3];
-                let dg = &mut d_gh[row * g3..][..g3];
-                for j in 0..hidden {
-                    let dh = dh_out[j] + carry[b * hidden + j];
-                    let r = sigmoid(x[j] + g[j] + b_v[j]);
-                    let z = sigmoid(x[hidden + j] + g[hidden + j] + b_v[hidden + j]);
-                    let ghn = g[2 * hidden + j] + b_v[2 * hidden + j];
-                    let n = (x[2 * hidden + j] + r * ghn).tanh();
-                    let dn = dh * (1.0 - z);
-                    let dz = dh * (hp[j] - n);
-                    let dan = dn * (1.0 - n * n);
-                    let dar = dan * ghn * r * (1.0 - r);
-                    let daz = dz * z * (1.0 - z);
-                    dx[j] = dar;
-                    dx[hidden + j] = daz;
-                    dx[2 * hidden + j] = dan;
-                    dg[j] = dar;
-                    dg[hidden + j] = daz;
-                    dg[2 * hidden + j] = dan * r;
-                    direct[b * hidden + j] = dh * z;
-                }
-            }
-            let through_w = matmul_into(&d_gh[t * batch * g3..][..batch * g3], batch, g3, &w_cpu)?;
-            for ((c, d), w) in carry.iter_mut().zip(&direct).zip(&through_w) {
-                *c = d + w;
-            }
-        }
-        let rows = steps * batch;
-        let d_gh_t = Tensor::from_vec(d_gh, (rows, g3), &Device::Cpu)?;
         let prev_t = Tensor::from_vec(prev, (rows, hidden), &Device::Cpu)?;
+        let gh = prev_t
+            .matmul(&w_cpu.t()?)?
+            .flatten_all()?
+            .to_vec1::<f32>()?;
+        let prev = prev_t.flatten_all()?.to_vec1::<f32>()?;
+        // d_gh (rows × 3H) · W_hh (3H × H) per step.
+        let w_back = PackedMatrix::from_matrix(&w_v, g3, hidden);
+        let inputs = BackwardInputs {
+            steps,
+            hidden,
+            xw: &xw_v,
+            gh: &gh,
+            prev: &prev,
+            d_out: &d_out,
+            b_hh: &b_v,
+            w_hh: &w_back,
+        };
+        let mut d_xw = vec![0f32; rows * g3];
+        let mut d_gh = vec![0f32; rows * g3];
+        let part = rows_per_part(batch) * steps * g3;
+        d_xw.par_chunks_mut(part)
+            .zip(d_gh.par_chunks_mut(part))
+            .enumerate()
+            .for_each(|(i, (dx, dg))| {
+                let offset = i * part;
+                let block = BackwardInputs {
+                    xw: &inputs.xw[offset..][..dx.len()],
+                    gh: &inputs.gh[offset..][..dx.len()],
+                    prev: &inputs.prev[offset / 3..][..dx.len() / 3],
+                    d_out: &inputs.d_out[offset / 3..][..dx.len() / 3],
+                    ..inputs
+                };
+                backward_rows(&block, dx, dg);
+            });
+        let d_gh_t = Tensor::from_vec(d_gh, (rows, g3), &Device::Cpu)?;
         let d_w_hh = d_gh_t.t()?.matmul(&prev_t)?;
         let d_b_hh = d_gh_t.sum(0)?;
-        let d_xw = Tensor::from_vec(d_xw, (steps, batch, g3), &Device::Cpu)?;
+        let d_xw = Tensor::from_vec(d_xw, (batch, steps, g3), &Device::Cpu)?;
         Ok((
             Some(d_xw.to_device(&device)?),
             Some(d_w_hh.to_device(&device)?),
             Some(d_b_hh.to_device(&device)?),
         ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fast_functions_match_the_library() {
+        let mut worst = [0f32; 3];
+        for i in -20_000..=20_000 {
+            let x = i as f32 * 0.001;
+            let e = (fast_exp(x) - x.exp()).abs() / x.exp();
+            let s = (sigmoid(x) - 1.0 / (1.0 + (-x).exp())).abs();
+            let t = (tanh(x) - x.tanh()).abs();
+            for (w, v) in worst.iter_mut().zip([e, s, t]) {
+                *w = w.max(v);
+            }
+        }
+        assert!(worst[0] < 3e-7, "exp relative error {}", worst[0]);
+        assert!(worst[1] < 2e-7 && worst[2] < 2e-7, "{worst:?}");
+        assert!(sigmoid(-200.0) < 1e-30);
+        assert_eq!(tanh(100.0), 1.0);
+        assert_eq!(tanh(-100.0), -1.0);
     }
 }

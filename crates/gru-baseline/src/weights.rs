@@ -16,8 +16,9 @@ use crate::norm::{MelStats, TargetSpace};
 
 /// Value of the `format` metadata key.
 pub const FORMAT_NAME: &str = "gru-baseline";
-/// Version of the weights format this crate reads and writes.
-pub const FORMAT_VERSION: u32 = 1;
+/// Version of the weights format this crate writes. Version 2 added the target
+/// coordinates' statistics and the output delay; version 1 files (neither) still load.
+pub const FORMAT_VERSION: u32 = 2;
 
 /// The shipped default weights (trained on the synthetic corpus; see the crate README).
 static PRETRAINED: &[u8] = include_bytes!("../weights/gru_baseline.safetensors");
@@ -148,10 +149,10 @@ impl GruBaseline {
             }
         }
         let version: u32 = meta_json(meta, "version", path)?;
-        if version != FORMAT_VERSION {
+        if version == 0 || version > FORMAT_VERSION {
             return Err(weights_err(
                 path,
-                format!("format version {version}, this build reads version {FORMAT_VERSION}; retrain or use a matching build"),
+                format!("format version {version}, this build reads versions 1 to {FORMAT_VERSION}; retrain or use a matching build"),
             ));
         }
         let cfg: Config = meta_json(meta, "config", path)?;

@@ -34,17 +34,18 @@ fn vars(in_dim: usize, hidden: usize, seed: u64) -> VarMap {
 }
 
 fn candle_reference(gru: &candle_nn::rnn::GRU, x: &Tensor, h0: Option<&Tensor>) -> Tensor {
-    let (steps, batch, _) = x.dims3().unwrap();
+    let (batch, steps, _) = x.dims3().unwrap();
     let mut state = match h0 {
         Some(h) => GRUState { h: h.clone() },
         None => gru.zero_state(batch).unwrap(),
     };
     let mut outs = Vec::new();
     for t in 0..steps {
-        state = gru.step(&x.get(t).unwrap(), &state).unwrap();
+        let xt = x.narrow(1, t, 1).unwrap().squeeze(1).unwrap();
+        state = gru.step(&xt, &state).unwrap();
         outs.push(state.h.clone());
     }
-    Tensor::stack(&outs, 0).unwrap()
+    Tensor::stack(&outs, 1).unwrap()
 }
 
 fn max_abs_diff(a: &Tensor, b: &Tensor) -> f32 {
@@ -63,16 +64,19 @@ fn max_abs_diff(a: &Tensor, b: &Tensor) -> f32 {
 
 #[test]
 fn forward_equals_candle_gru() {
-    for (in_dim, hidden, steps, batch, seed) in
-        [(6, 5, 9, 3, 1), (128, 64, 40, 4, 2), (1, 1, 1, 1, 3)]
-    {
+    for (in_dim, hidden, steps, batch, seed) in [
+        (6, 5, 9, 3, 1),
+        (128, 64, 40, 4, 2),
+        (1, 1, 1, 1, 3),
+        (9, 20, 7, 13, 4),
+    ] {
         let map = vars(in_dim, hidden, seed);
         let vb = VarBuilder::from_varmap(&map, DType::F32, &Device::Cpu);
         let fused = FusedGru::new(in_dim, hidden, vb.pp("g")).unwrap();
         let reference =
             candle_nn::rnn::gru(in_dim, hidden, GRUConfig::default(), vb.pp("g")).unwrap();
         let mut rng = Rng::new(seed + 100);
-        let x = random(&[steps, batch, in_dim], &mut rng, 1.0);
+        let x = random(&[batch, steps, in_dim], &mut rng, 1.0);
         let ours = fused.forward(&x, None).unwrap();
         let theirs = candle_reference(&reference, &x, None);
         let d = max_abs_diff(&ours, &theirs);
@@ -93,15 +97,15 @@ fn forward_equals_candle_gru() {
 
 #[test]
 fn gradients_equal_candle_autograd() {
-    let (in_dim, hidden, steps, batch) = (7, 6, 12, 3);
+    let (in_dim, hidden, steps, batch) = (7, 6, 12, 9);
     let map = vars(in_dim, hidden, 11);
     let vb = VarBuilder::from_varmap(&map, DType::F32, &Device::Cpu);
     let fused = FusedGru::new(in_dim, hidden, vb.pp("g")).unwrap();
     let reference = candle_nn::rnn::gru(in_dim, hidden, GRUConfig::default(), vb.pp("g")).unwrap();
     let mut rng = Rng::new(12);
-    let x = Var::from_tensor(&random(&[steps, batch, in_dim], &mut rng, 1.0)).unwrap();
+    let x = Var::from_tensor(&random(&[batch, steps, in_dim], &mut rng, 1.0)).unwrap();
     let h0 = random(&[batch, hidden], &mut rng, 0.5);
-    let probe = random(&[steps, batch, hidden], &mut rng, 1.0);
+    let probe = random(&[batch, steps, hidden], &mut rng, 1.0);
 
     let loss_ours = (fused.forward(x.as_tensor(), Some(&h0)).unwrap() * &probe)
         .unwrap()
@@ -138,18 +142,18 @@ fn wrong_shapes_are_typed_errors() {
     let map = vars(4, 3, 5);
     let vb = VarBuilder::from_varmap(&map, DType::F32, &Device::Cpu);
     let fused = FusedGru::new(4, 3, vb.pp("g")).unwrap();
-    let x = Tensor::zeros((5, 2, 6), DType::F32, &Device::Cpu).unwrap();
+    let x = Tensor::zeros((2, 5, 6), DType::F32, &Device::Cpu).unwrap();
     assert!(matches!(
         fused.forward(&x, None),
         Err(gru_baseline::GruError::Shape { .. })
     ));
-    let x = Tensor::zeros((5, 2, 4), DType::F32, &Device::Cpu).unwrap();
+    let x = Tensor::zeros((2, 5, 4), DType::F32, &Device::Cpu).unwrap();
     let h0 = Tensor::zeros((3, 3), DType::F32, &Device::Cpu).unwrap();
     assert!(matches!(
         fused.forward(&x, Some(&h0)),
         Err(gru_baseline::GruError::Shape { .. })
     ));
-    let empty = Tensor::zeros((0, 2, 4), DType::F32, &Device::Cpu).unwrap();
+    let empty = Tensor::zeros((2, 0, 4), DType::F32, &Device::Cpu).unwrap();
     assert!(matches!(
         fused.forward(&empty, None),
         Err(gru_baseline::GruError::Empty(_))

@@ -1,14 +1,21 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
-//! Bad inputs give typed errors; chunked inference carries the state exactly; the weighted
-//! loss does the arithmetic of SPEC §8.
+//! Bad inputs give typed errors; the sequential inference carries the state exactly across
+//! segments; one chunk is the sequential run; the weighted loss does the arithmetic of SPEC §8.
 
 use candle_core::{DType, Device, Tensor};
-use gru_baseline::{Config, GruBaseline, GruError, Loss, TargetSpace, VideoNorm, CHUNK_FRAMES};
+use gru_baseline::{
+    Chunking, Config, GruBaseline, GruError, Loss, TargetSpace, VideoNorm, CHUNK_FRAMES,
+};
 use ndarray::{Array2, Array3};
 
 fn tiny() -> GruBaseline {
+    tiny_with_lookahead(Config::default().lookahead_frames)
+}
+
+fn tiny_with_lookahead(lookahead_frames: usize) -> GruBaseline {
     let cfg = Config {
         hidden: vec![6, 10, 6],
+        lookahead_frames,
         ..Config::default()
     };
     let vars = GruBaseline::init_vars(&cfg, 9).unwrap();
@@ -66,44 +73,64 @@ fn bad_mel_inputs_are_typed_errors() {
 }
 
 #[test]
-fn chunked_inference_equals_one_pass_and_batches_equal_singles() {
-    let net = tiny();
+fn sequential_inference_equals_one_pass_and_batches_equal_singles() {
+    // With an output delay of 3 frames: input padded by 3 frames, output frame t is the
+    // network's output at input frame t + 3.
+    let delay = 3;
+    let net = tiny_with_lookahead(delay);
     let frames = 2 * CHUNK_FRAMES + 17;
     let m = mel(frames);
-    let chunked = net.predict_normalized(m.view()).unwrap();
+    let chunked = net.predict_normalized_exact(m.view()).unwrap();
+    assert_eq!(chunked.dim(), (frames, 20));
     let x = net.mel_stats().normalize(m.view());
-    let xs = Tensor::from_vec(
-        x.iter().copied().collect::<Vec<f32>>(),
-        (1, frames, 128),
-        &Device::Cpu,
-    )
-    .unwrap();
-    let whole = net
-        .forward_t(&xs, false)
-        .unwrap()
-        .squeeze(0)
-        .unwrap()
-        .to_vec2::<f32>()
-        .unwrap();
+    let mut padded: Vec<f32> = x.iter().copied().collect();
+    padded.resize((frames + delay) * 128, 0.0);
+    let xs = Tensor::from_vec(padded, (1, frames + delay, 128), &Device::Cpu).unwrap();
+    let whole = net.forward_t(&xs, false).unwrap().squeeze(0).unwrap();
+    let whole = net.target_space().destandardize(
+        ndarray::Array2::from_shape_vec(
+            (frames + delay, 20),
+            whole.flatten_all().unwrap().to_vec1::<f32>().unwrap(),
+        )
+        .unwrap(),
+    );
     let mut max = 0f32;
-    for (t, row) in whole.iter().enumerate() {
-        for (k, v) in row.iter().enumerate() {
-            max = max.max((v - chunked[[t, k]]).abs());
+    for t in 0..frames {
+        for k in 0..20 {
+            max = max.max((whole[[t + delay, k]] - chunked[[t, k]]).abs());
         }
     }
-    assert!(max < 1e-5, "chunked vs whole: {max}");
+    assert!(max < 1e-5, "sequential vs whole: {max}");
     let short = mel(40);
     let views = [m.view(), short.view()];
     let batch = net.predict_normalized_batch(&views).unwrap();
     assert_eq!(batch[0].dim(), (frames, 20));
     assert_eq!(batch[1].dim(), (40, 20));
-    let single = net.predict_normalized(short.view()).unwrap();
+    let single = net.predict_normalized_exact(short.view()).unwrap();
     let d = (&batch[1] - &single)
         .mapv(f32::abs)
         .iter()
         .cloned()
         .fold(0.0, f32::max);
     assert!(d < 1e-5, "batch vs single: {d}");
+    // A recording too short to cut is one chunk: the sequential run.
+    let one_chunk = net.predict_normalized(short.view()).unwrap();
+    assert_eq!(one_chunk, single);
+    // With a warm-up as long as the recording every chunk starts at frame 0: exact again.
+    let whole_warmup = Chunking {
+        warmup_frames: frames,
+        max_chunk_frames: 500,
+        ..Chunking::default()
+    };
+    let c = net
+        .predict_normalized_with(m.view(), &whole_warmup)
+        .unwrap();
+    let d = (&c - &chunked)
+        .mapv(f32::abs)
+        .iter()
+        .cloned()
+        .fold(0.0, f32::max);
+    assert!(d < 1e-5, "full warm-up vs sequential: {d}");
     // Dropout only in training mode, and seeded.
     let x = Tensor::ones((2, 7, 128), DType::F32, &Device::Cpu).unwrap();
     let eval1 = net.forward_t(&x, false).unwrap().to_vec3::<f32>().unwrap();

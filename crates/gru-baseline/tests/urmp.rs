@@ -5,6 +5,7 @@
 use std::path::Path;
 
 use gru_baseline::data::{load_dataset, DataLayout};
+use gru_baseline::norm::TRUNK_JOINTS;
 use gru_baseline::GruError;
 use serde_json::json;
 use skeleton::{Joint, PoseLayout};
@@ -91,24 +92,37 @@ fn loads_violin_tracks_with_their_skeletons() {
     assert_eq!(seq.joints.dim(), (FRAMES, 20));
     // Torso: neck (600, 300) to the hips' midpoint (600, 500).
     assert!((seq.video.torso_px - 200.0).abs() < 1e-3, "{:?}", seq.video);
-    // Pixels, not re-centred by pose-preproc: the centre is the mean joint.
+    // Pixels, not re-centred by pose-preproc: the centre is the mean of the trunk joints
+    // (neck, shoulders, hips; they do not move in the fixture):
+    // x = (600 + 540 + 660 + 570 + 630) / 5 = 600, y = (300 + 305 + 305 + 500 + 500) / 5 = 382.
+    // (The mean of all ten joints would be y = 359, x ≈ 606: the arms must not move it.)
     assert!(
-        (seq.video.center_px[1] - 359.0).abs() < 1.0,
+        (seq.video.center_px[0] - 600.0).abs() < 1e-3
+            && (seq.video.center_px[1] - 382.0).abs() < 1e-3,
         "{:?}",
         seq.video
     );
-    // Normalised joints average to zero in x and y.
-    let mean_x: f32 = (0..10)
-        .map(|j| seq.joints.column(2 * j).mean().unwrap())
-        .sum::<f32>()
-        / 10.0;
-    let mean_y: f32 = (0..10)
+    // So the normalised trunk joints average to zero in x and y; all joints do not.
+    let trunk_mean = |d: usize| -> f32 {
+        TRUNK_JOINTS
+            .iter()
+            .map(|j| seq.joints.column(2 * j.index() + d).mean().unwrap())
+            .sum::<f32>()
+            / TRUNK_JOINTS.len() as f32
+    };
+    assert!(
+        trunk_mean(0).abs() < 1e-5 && trunk_mean(1).abs() < 1e-5,
+        "{} {}",
+        trunk_mean(0),
+        trunk_mean(1)
+    );
+    let all_y: f32 = (0..10)
         .map(|j| seq.joints.column(2 * j + 1).mean().unwrap())
         .sum::<f32>()
         / 10.0;
     assert!(
-        mean_x.abs() < 1e-4 && mean_y.abs() < 1e-4,
-        "{mean_x} {mean_y}"
+        (all_y - (359.0 - 382.0) / 200.0).abs() < 1e-4,
+        "mean of all joints' y {all_y}"
     );
     // The right wrist moves; the neck does not.
     let rw = seq.joints.column(2 * Joint::RWrist.index());

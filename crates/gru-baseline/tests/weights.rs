@@ -29,6 +29,8 @@ fn small() -> GruBaseline {
         center_px: [600.0, 350.0],
         torso_px: 210.0,
         image_size: Some((1280, 720)),
+        coord_mean: (0..20).map(|i| i as f32 * 0.01 - 0.1).collect(),
+        coord_std: (0..20).map(|i| 0.02 + i as f32 * 0.005).collect(),
     };
     net.set_normalization(stats, target).unwrap();
     net

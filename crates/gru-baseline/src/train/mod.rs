@@ -4,21 +4,23 @@
 //! stopping. Every random draw comes from the seed.
 
 mod adam;
+mod batch;
 mod checkpoint;
 mod schedule;
 
 use std::path::PathBuf;
 use std::time::Instant;
 
-use candle_core::{DType, Device, Tensor, Var};
+use candle_core::{DType, Device, Var};
 use candle_nn::VarBuilder;
 use corpus::rng::Rng;
-use ndarray::Array2;
 use serde::{Deserialize, Serialize};
 
 pub use adam::Adam;
 pub use checkpoint::{checkpoint_path, Progress};
 pub use schedule::{plan_epoch, Window};
+
+use batch::Examples;
 
 use crate::config::Config;
 use crate::data::Dataset;
@@ -57,13 +59,13 @@ pub struct TrainConfig {
 impl Default for TrainConfig {
     fn default() -> Self {
         Self {
-            epochs: 20,
+            epochs: 30,
             batch_size: 16,
             window_frames: 150,
-            learning_rate: 2e-3,
+            learning_rate: 1e-3,
             clip_grad_norm: 1.0,
-            lr_patience: 2,
-            early_stop_patience: 5,
+            lr_patience: 1,
+            early_stop_patience: 4,
             loss: Loss::default(),
             seed: 0,
             max_steps_per_epoch: None,
@@ -265,26 +267,16 @@ pub fn train(
         state = ck.progress;
         adam.learning_rate = state.learning_rate;
     } else {
+        // Standardised targets: the head's zero bias starts at the mean pose, so the first
+        // updates learn motion instead of where the body stands.
         let mel_stats = MelStats::of(data.train.iter().map(|s| s.mel_db.view()))?;
         let videos: Vec<_> = data.train.iter().map(|s| (s.video, s.image_size)).collect();
-        net.set_normalization(mel_stats, TargetSpace::of(&videos)?)?;
-        // Start from the mean pose: the head's bias is the training targets' mean, so the
-        // first updates learn motion instead of where the body stands.
-        if let Some((_, bias)) = named.iter().find(|(n, _)| n == "head.bias") {
-            bias.set(&Tensor::from_vec(
-                mean_pose(data),
-                opts.config.outputs(),
-                &Device::Cpu,
-            )?)?;
-        }
+        let target = TargetSpace::of(&videos, data.train.iter().map(|s| s.joints.view()))?;
+        net.set_normalization(mel_stats, target)?;
     }
 
-    let inputs: Vec<Array2<f32>> = data
-        .train
-        .iter()
-        .map(|s| net.mel_stats().normalize(s.mel_db.view()))
-        .collect();
-    let lengths: Vec<usize> = data.train.iter().map(|s| s.len()).collect();
+    let examples = Examples::new(&net, &data.train);
+    let lengths = examples.lengths();
     let steps_of = |epoch: usize| {
         let mut rng = Rng::new(tcfg.seed).fork(epoch as u64);
         let _ = rng.next_u64();
@@ -313,7 +305,7 @@ pub fn train(
         let mut carried: Option<GruState> = None;
         let mut loss_sum = 0.0;
         for (s, row) in plan.iter().enumerate() {
-            let (x, y, mask) = assemble(row, &inputs, &data.train, opts.config.outputs())?;
+            let (x, y, mask) = examples.batch(row)?;
             let keep: Vec<bool> = row.iter().map(|w| w.is_some_and(|w| !w.first)).collect();
             let start = match &carried {
                 Some(c) => Some(c.reset_rows(&keep)?),
@@ -392,55 +384,4 @@ pub fn train(
         record,
         stopped_early,
     })
-}
-
-/// Mean of every output coordinate over all training frames.
-fn mean_pose(data: &Dataset) -> Vec<f32> {
-    let outputs = data.train.first().map_or(0, |s| s.joints.ncols());
-    let mut sum = vec![0f64; outputs];
-    let mut n = 0usize;
-    for s in &data.train {
-        for row in s.joints.rows() {
-            for (a, v) in sum.iter_mut().zip(row.iter()) {
-                *a += f64::from(*v);
-            }
-        }
-        n += s.len();
-    }
-    sum.iter().map(|v| (v / n.max(1) as f64) as f32).collect()
-}
-
-/// The batch of one step: inputs `(B, T, bands)`, targets `(B, T, outputs)`, mask `(B, T)`,
-/// `T` the longest window of the step; shorter windows and finished streams are zero-padded
-/// and masked out.
-fn assemble(
-    row: &[Option<Window>],
-    inputs: &[Array2<f32>],
-    seqs: &[crate::data::Sequence],
-    outputs: usize,
-) -> Result<(Tensor, Tensor, Tensor)> {
-    let batch = row.len();
-    let steps = row.iter().flatten().map(|w| w.len).max().unwrap_or(1);
-    let bands = inputs.first().map_or(0, |a| a.ncols());
-    let mut x = vec![0f32; batch * steps * bands];
-    let mut y = vec![0f32; batch * steps * outputs];
-    let mut m = vec![0f32; batch * steps];
-    for (b, w) in row.iter().enumerate() {
-        let Some(w) = w else { continue };
-        let (mel, joints) = (&inputs[w.seq], &seqs[w.seq].joints);
-        for t in 0..w.len {
-            let src = mel.row(w.start + t);
-            let dst = &mut x[(b * steps + t) * bands..][..bands];
-            dst.iter_mut().zip(src.iter()).for_each(|(d, s)| *d = *s);
-            let src = joints.row(w.start + t);
-            let dst = &mut y[(b * steps + t) * outputs..][..outputs];
-            dst.iter_mut().zip(src.iter()).for_each(|(d, s)| *d = *s);
-            m[b * steps + t] = 1.0;
-        }
-    }
-    Ok((
-        Tensor::from_vec(x, (batch, steps, bands), &Device::Cpu)?,
-        Tensor::from_vec(y, (batch, steps, outputs), &Device::Cpu)?,
-        Tensor::from_vec(m, (batch, steps), &Device::Cpu)?,
-    ))
 }
