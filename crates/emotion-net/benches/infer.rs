@@ -1,4 +1,4 @@
-//! Inference cost: arousal of 180 s of 2 fps mel frames (360 frames, 341 windows).
+//! Inference cost: arousal of 180 s of 2 fps mel frames (360 frames, 35 windows of 20 frames every 10).
 #![allow(clippy::unwrap_used, clippy::expect_used, missing_docs)]
 
 use criterion::{criterion_group, criterion_main, Criterion};

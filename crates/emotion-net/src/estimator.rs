@@ -137,7 +137,8 @@ impl ArousalEstimator {
 /// Frames between the starts of consecutive inference windows (windows overlap by half).
 pub const INFER_HOP_STEPS: usize = 10;
 
-/// Overlap-averaged arousal of a whole spectrogram with `net` (inference mode): `steps`-frame
+/// Overlap-averaged arousal of a whole spectrogram with `net` (inference mode), after the
+/// level normalisation of the network's configuration (`Config::gain_norm`): `steps`-frame
 /// windows every [`INFER_HOP_STEPS`] frames, the last one aligned with the end, averaged
 /// where they overlap; a recording shorter than one window is padded with its quietest value
 /// and the output cut back.
@@ -149,6 +150,8 @@ pub fn predict_with(net: &EmotionNet, mel_db: ArrayView2<f32>) -> Result<Vec<f32
 pub fn predict_with_hop(net: &EmotionNet, mel_db: ArrayView2<f32>, hop: usize) -> Result<Vec<f32>> {
     let cfg = net.config();
     check_mel(mel_db, cfg.n_mels)?;
+    let normalised = cfg.gain_norm.apply(mel_db);
+    let mel_db = normalised.view();
     let frames = mel_db.nrows();
     let t = cfg.steps;
     let pad = mel_db.iter().copied().fold(f32::INFINITY, f32::min);

@@ -21,6 +21,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod batch_norm;
 pub mod data;
 mod error;
 pub mod estimator;
@@ -32,4 +33,4 @@ pub mod train;
 pub use error::{EmotionError, Result};
 pub use estimator::ArousalEstimator;
 pub use model::{Config, EmotionNet};
-pub use train::{train, TrainConfig, TrainProgress, TrainReport};
+pub use train::{recalibrate_batch_norm, train, TrainConfig, TrainProgress, TrainReport};

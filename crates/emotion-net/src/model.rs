@@ -1,12 +1,12 @@
 //! The arousal CRNN of SPEC §7 in candle's model style.
 //!
-//! Input: `T = 20` steps of a 2 fps × 64-band mel spectrogram (dB; normalised per band by
-//! statistics stored with the weights). Layers: three × (Conv 8@3×3 "same" → BatchNorm →
-//! Dropout .75); reshape to `(T, 64·8)`; Dense 8 → Dropout .5; GRU 16 → Dropout .5;
-//! Maxout dense (8 linear pieces, the maximum is taken) → one arousal value per step.
-//! As in the SPEC (and Keras's defaults) the convolutions and the dense layer are linear.
-
-use std::sync::Mutex;
+//! Input: `T = 20` steps of a 2 fps × 64-band mel spectrogram (dB; by default shifted so that
+//! the recording's 95th-percentile frame loudness is 0 dB, then normalised per band by
+//! statistics stored with the weights). Layers: three × (Conv 8@3×3 "same" with ReLU →
+//! BatchNorm → Dropout .75); reshape to `(T, 64·8)`; Dense 8 → Dropout .5; GRU 16 →
+//! Dropout .5; Maxout dense (8 linear pieces, the maximum is taken) → one arousal value per
+//! step. The SPEC names no activation for the convolutions; the original design's layer list
+//! gives ReLU for all three (and none for the dense layer, which stays linear).
 
 use bowing_net::nn::{conv2d_nhwc, DropoutRng, SeededDropout};
 use candle_core::{Module, Tensor, D};
@@ -14,12 +14,17 @@ use candle_nn::rnn::{GRUConfig, RNN};
 use candle_nn::{Init, Linear, VarBuilder, GRU};
 use serde::{Deserialize, Serialize};
 
+use crate::batch_norm::{BatchNormNhwc, BnPass};
 use crate::error::Result;
 use bowing_net::NetError;
 
 /// The network's shape (SPEC §7 by default).
+///
+/// Fields missing from a weights file take the values older files were trained with; a field
+/// this build does not know makes the file unreadable (a newer network must not be run as an
+/// older one).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct Config {
     /// Time steps per window (10 s at 2 fps).
     pub steps: usize,
@@ -31,6 +36,10 @@ pub struct Config {
     pub conv_channels: usize,
     /// Square kernel size ("same" padding).
     pub kernel_size: usize,
+    /// Activation of each convolution, applied before its batch norm (weights files
+    /// written before this field existed read as [`ConvActivation::Linear`]).
+    #[serde(default = "ConvActivation::linear")]
+    pub conv_activation: ConvActivation,
     /// Dropout after each conv block.
     pub conv_dropout: f32,
     /// Units of the dense layer.
@@ -47,6 +56,86 @@ pub struct Config {
     pub bn_eps: f64,
     /// BatchNorm running-statistics momentum (Keras: 0.99).
     pub bn_momentum: f64,
+    /// How a whole recording's level is normalised before the network sees it (weights
+    /// files written before this field existed read as [`GainNorm::Absolute`]).
+    #[serde(default = "GainNorm::absolute")]
+    pub gain_norm: GainNorm,
+}
+
+/// The convolutions' activation.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ConvActivation {
+    /// None (Keras's default when no activation is named).
+    #[default]
+    Linear,
+    /// `max(0, x)`, as the original design's layer list gives for the three convolutions.
+    Relu,
+}
+
+impl ConvActivation {
+    fn linear() -> Self {
+        Self::Linear
+    }
+}
+
+/// Level normalisation of a whole recording's mel dB spectrogram, applied before the
+/// per-band standardisation.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum GainNorm {
+    /// The dB values as computed (reference power 1): the recording's gain is seen.
+    #[default]
+    Absolute,
+    /// Subtract the recording's frame loudness at this quantile (0..=1) of its frames, so
+    /// that a recording and a louder copy of it give the same input.
+    TrackQuantile(f32),
+}
+
+impl GainNorm {
+    fn absolute() -> Self {
+        Self::Absolute
+    }
+
+    /// The dB offset to subtract from every value of `mel_db` (`(frames, bands)`): 0 for
+    /// [`GainNorm::Absolute`], else the `q`-quantile of the frames' loudness
+    /// `10·log10(Σ_band 10^(dB/10))`.
+    ///
+    /// ```
+    /// use emotion_net::model::GainNorm;
+    /// let quiet = ndarray::Array2::from_shape_fn((10, 4), |(t, _)| -40.0 + t as f32);
+    /// let loud = &quiet + 12.0;
+    /// let q = GainNorm::TrackQuantile(0.9);
+    /// let d = q.offset_db(loud.view()) - q.offset_db(quiet.view());
+    /// assert!((d - 12.0).abs() < 1e-3);
+    /// ```
+    pub fn offset_db(self, mel_db: ndarray::ArrayView2<f32>) -> f32 {
+        let Self::TrackQuantile(q) = self else {
+            return 0.0;
+        };
+        let mut loudness: Vec<f32> = mel_db
+            .rows()
+            .into_iter()
+            .map(|row| {
+                let peak = row.iter().copied().fold(f32::NEG_INFINITY, f32::max);
+                let sum: f32 = row.iter().map(|&v| 10f32.powf((v - peak) / 10.0)).sum();
+                peak + 10.0 * sum.log10()
+            })
+            .filter(|v| v.is_finite())
+            .collect();
+        if loudness.is_empty() {
+            return 0.0;
+        }
+        loudness.sort_by(f32::total_cmp);
+        let k = (q.clamp(0.0, 1.0) * (loudness.len() - 1) as f32).round() as usize;
+        loudness[k]
+    }
+
+    /// `mel_db` with [`GainNorm::offset_db`] subtracted.
+    pub fn apply(self, mel_db: ndarray::ArrayView2<f32>) -> ndarray::Array2<f32> {
+        let offset = self.offset_db(mel_db);
+        mel_db.mapv(|v| v - offset)
+    }
 }
 
 impl Default for Config {
@@ -57,6 +146,7 @@ impl Default for Config {
             conv_blocks: 3,
             conv_channels: 8,
             kernel_size: 3,
+            conv_activation: ConvActivation::Relu,
             conv_dropout: 0.75,
             dense_units: 8,
             dense_dropout: 0.5,
@@ -65,6 +155,7 @@ impl Default for Config {
             maxout_pieces: 8,
             bn_eps: 1e-3,
             bn_momentum: 0.99,
+            gain_norm: GainNorm::TrackQuantile(0.95),
         }
     }
 }
@@ -86,90 +177,20 @@ impl Config {
                 NetError::Config("sizes must be positive and the kernel odd".into()).into(),
             );
         }
+        if let GainNorm::TrackQuantile(q) = self.gain_norm {
+            if !(0.0..=1.0).contains(&q) {
+                return Err(NetError::Config(format!(
+                    "the gain-normalisation quantile must be in [0, 1], got {q}"
+                ))
+                .into());
+            }
+        }
         for p in [self.conv_dropout, self.dense_dropout, self.gru_dropout] {
             if !(0.0..1.0).contains(&p) {
                 return Err(NetError::Config(format!("dropout must be in [0, 1), got {p}")).into());
             }
         }
         Ok(())
-    }
-}
-
-/// Batch normalisation over the last (channel) axis, with running statistics that a
-/// training forward pass updates.
-#[derive(Debug)]
-pub struct BatchNormNhwc {
-    gamma: Tensor,
-    beta: Tensor,
-    running_mean: Mutex<Tensor>,
-    running_var: Mutex<Tensor>,
-    eps: f64,
-    momentum: f64,
-    name: String,
-}
-
-impl BatchNormNhwc {
-    fn new(channels: usize, eps: f64, momentum: f64, vb: VarBuilder, name: &str) -> Result<Self> {
-        Ok(Self {
-            gamma: vb.get_with_hints(channels, "gamma", Init::Const(1.0))?,
-            beta: vb.get_with_hints(channels, "beta", Init::Const(0.0))?,
-            running_mean: Mutex::new(vb.get_with_hints(
-                channels,
-                "running_mean",
-                Init::Const(0.0),
-            )?),
-            running_var: Mutex::new(vb.get_with_hints(
-                channels,
-                "running_var",
-                Init::Const(1.0),
-            )?),
-            eps,
-            momentum,
-            name: name.to_string(),
-        })
-    }
-
-    fn forward_t(&self, x: &Tensor, train: bool) -> Result<Tensor> {
-        let c = x.dim(D::Minus1)?;
-        let (mean, var) = if train {
-            // Column means as a matrix product: candle's reductions over a leading axis
-            // are slow on the CPU.
-            let flat = x.reshape(((), c))?;
-            let n = flat.dim(0)?;
-            let ones = Tensor::ones((1, n), flat.dtype(), flat.device())?;
-            let mean = (ones.matmul(&flat)? / n as f64)?.squeeze(0)?;
-            let centred = flat.broadcast_sub(&mean)?;
-            let var = (ones.matmul(&centred.sqr()?)? / n as f64)?.squeeze(0)?;
-            let m = self.momentum;
-            if let (Ok(mut rm), Ok(mut rv)) = (self.running_mean.lock(), self.running_var.lock()) {
-                *rm = ((rm.detach() * m)? + (mean.detach() * (1.0 - m))?)?;
-                *rv = ((rv.detach() * m)? + (var.detach() * (1.0 - m))?)?;
-            }
-            (mean, var)
-        } else {
-            let rm = self.running_mean.lock().map(|t| t.clone());
-            let rv = self.running_var.lock().map(|t| t.clone());
-            match (rm, rv) {
-                (Ok(m), Ok(v)) => (m, v),
-                _ => return Err(NetError::Config("batch-norm statistics poisoned".into()).into()),
-            }
-        };
-        let inv = (var + self.eps)?.sqrt()?.recip()?;
-        Ok(x.broadcast_sub(&mean)?
-            .broadcast_mul(&(inv * &self.gamma)?)?
-            .broadcast_add(&self.beta)?)
-    }
-
-    /// The running statistics as `(name, tensor)` pairs (`bnK.running_mean`, `…var`).
-    pub fn running_stats(&self) -> Vec<(String, Tensor)> {
-        let mut out = Vec::new();
-        if let Ok(m) = self.running_mean.lock() {
-            out.push((format!("{}.running_mean", self.name), m.clone()));
-        }
-        if let Ok(v) = self.running_var.lock() {
-            out.push((format!("{}.running_var", self.name), v.clone()));
-        }
-        out
     }
 }
 
@@ -292,17 +313,8 @@ impl EmotionNet {
             ))
             .into());
         }
-        let pad = self.cfg.kernel_size / 2;
-        let mut x = windows
-            .broadcast_sub(&self.norm_mean)?
-            .broadcast_div(&self.norm_std)?
-            .unsqueeze(3)?;
-        for ((w, bias), bn) in self.convs.iter().zip(&self.bns) {
-            x = conv2d_nhwc(&x, w, bias, (pad, pad))?;
-            x = self
-                .conv_dropout
-                .forward_t(&bn.forward_t(&x, train)?, train)?;
-        }
+        let pass = if train { BnPass::Train } else { BnPass::Infer };
+        let x = self.conv_stack(windows, pass)?;
         let x = x.reshape((b, t, m * self.cfg.conv_channels))?;
         let x = self
             .dense_dropout
@@ -312,5 +324,44 @@ impl EmotionNet {
         let h = Tensor::stack(&hs, 1)?;
         let h = self.gru_dropout.forward_t(&h, train)?;
         Ok(self.maxout.forward(&h)?.max(D::Minus1)?)
+    }
+
+    /// The three conv blocks: `(batch, steps, n_mels)` → `(batch, steps, n_mels, channels)`.
+    /// Dropout is active only in [`BnPass::Train`].
+    fn conv_stack(&self, windows: &Tensor, pass: BnPass) -> Result<Tensor> {
+        let pad = self.cfg.kernel_size / 2;
+        let train = pass == BnPass::Train;
+        let mut x = windows
+            .broadcast_sub(&self.norm_mean)?
+            .broadcast_div(&self.norm_std)?
+            .unsqueeze(3)?;
+        for ((w, bias), bn) in self.convs.iter().zip(&self.bns) {
+            x = conv2d_nhwc(&x, w, bias, (pad, pad))?;
+            if self.cfg.conv_activation == ConvActivation::Relu {
+                x = x.relu()?;
+            }
+            x = self.conv_dropout.forward_t(&bn.forward(&x, pass)?, train)?;
+        }
+        Ok(x)
+    }
+
+    /// Re-estimates every batch norm's running statistics as the average batch statistics
+    /// of `batches` (`(batch, steps, n_mels)` windows) passed with dropout off — the inputs
+    /// inference sees. Training updates them from dropped-out activations, whose spread
+    /// differs ("variance shift"). Nothing else changes.
+    pub fn recalibrate_batch_norm(&self, batches: &[Tensor]) -> Result<()> {
+        if batches.is_empty() {
+            return Ok(());
+        }
+        for bn in &self.bns {
+            bn.start_calibration();
+        }
+        for b in batches {
+            self.conv_stack(b, BnPass::Calibrate)?;
+        }
+        for bn in &self.bns {
+            bn.finish_calibration()?;
+        }
+        Ok(())
     }
 }

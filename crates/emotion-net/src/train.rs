@@ -46,6 +46,13 @@ pub struct TrainConfig {
     pub batch_windows: usize,
     /// Frames between training windows.
     pub window_hop: usize,
+    /// Augmentation: each training window's mel bands are shifted by a random whole number
+    /// of bands in `-band_shift_max..=band_shift_max` (edge bands repeated), a rough
+    /// transposition; 0 = off.
+    pub band_shift_max: usize,
+    /// Re-estimate the batch-norm running statistics with dropout off after every epoch,
+    /// before validation ([`recalibrate_batch_norm`]).
+    pub recalibrate_batch_norm: bool,
     /// Cap on steps per epoch (tests).
     pub max_steps_per_epoch: Option<usize>,
     /// Free text stored with the weights (e.g. the data folder).
@@ -59,13 +66,15 @@ impl Default for TrainConfig {
             epochs: 40,
             patience: 10,
             seed: 1,
-            learning_rate: 3e-3,
+            learning_rate: 2e-2,
             schedule: LrSchedule::WarmupCosine {
                 warmup_fraction: 0.03,
                 final_fraction: 0.02,
             },
             batch_windows: 32,
             window_hop: 2,
+            band_shift_max: 0,
+            recalibrate_batch_norm: false,
             max_steps_per_epoch: None,
             data_description: String::new(),
         }
@@ -168,6 +177,16 @@ pub fn train(
     }
     check_tracks(&data.train, "training", mcfg.n_mels)?;
     check_tracks(&data.val, "validation", mcfg.n_mels)?;
+    // Inference normalises each recording's level the same way (`predict_with`).
+    let train_tracks: Vec<ArousalTrack> = data
+        .train
+        .iter()
+        .map(|t| ArousalTrack {
+            mel_db: mcfg.gain_norm.apply(t.mel_db.view()),
+            ..t.clone()
+        })
+        .collect();
+    let train_tracks = &train_tracks[..];
     let varmap = VarMap::new();
     let net = EmotionNet::new(
         mcfg,
@@ -187,7 +206,7 @@ pub fn train(
             Some((3.0 / fan_in.max(1) as f64).sqrt())
         }
     })?;
-    let (mean, std) = band_statistics(data.train.iter().map(|t| t.mel_db.view()), mcfg.n_mels);
+    let (mean, std) = band_statistics(train_tracks.iter().map(|t| t.mel_db.view()), mcfg.n_mels);
     let fixed = HashMap::from([
         (
             "norm.mean".to_string(),
@@ -224,12 +243,11 @@ pub fn train(
         state = saved;
     }
 
-    let pads: Vec<f32> = data
-        .train
+    let pads: Vec<f32> = train_tracks
         .iter()
         .map(|tr| tr.mel_db.iter().copied().fold(f32::INFINITY, f32::min))
         .collect();
-    let windows = training_windows(&data.train, mcfg.steps, cfg.window_hop);
+    let windows = training_windows(train_tracks, mcfg.steps, cfg.window_hop);
     let steps_per_epoch = windows
         .len()
         .div_ceil(cfg.batch_windows)
@@ -258,7 +276,9 @@ pub fn train(
                 cfg.epochs,
             );
             adam.config.learning_rate = lr;
-            let (xt, yt, mt) = window_batch(&data.train, &pads, batch, mcfg)?;
+            let shift = cfg.band_shift_max as i64;
+            let shifts: Vec<i64> = batch.iter().map(|_| rng.int(-shift, shift)).collect();
+            let (xt, yt, mt) = window_batch(train_tracks, &pads, batch, &shifts, mcfg)?;
             let pred = net.forward_t(&xt, true)?;
             let n = mt.sum_all()?.to_scalar::<f32>()?.max(1.0);
             let loss = ((pred - yt)?.sqr()? * &mt)?
@@ -286,6 +306,9 @@ pub fn train(
             });
         }
         let epoch_loss = (loss_sum / steps_per_epoch.max(1) as f64) as f32;
+        if cfg.recalibrate_batch_norm {
+            recalibrate_batch_norm(&net, &data.train)?;
+        }
         let (r, _) = score(&net, &data.val)?;
         if state.end_epoch(epoch, epoch_loss, r) {
             ArousalEstimator::from_tensors(mcfg, model_tensors(&varmap, &net)?, String::new())?
@@ -343,6 +366,36 @@ pub fn train(
     Ok(report)
 }
 
+/// Windows (at most) used by [`recalibrate_batch_norm`].
+pub const CALIBRATION_WINDOWS: usize = 2048;
+
+/// Re-estimates `net`'s batch-norm running statistics from up to [`CALIBRATION_WINDOWS`]
+/// windows spread evenly over `tracks` (level-normalised as the network's configuration
+/// says), passed with dropout off in batches of 64 (see
+/// [`EmotionNet::recalibrate_batch_norm`]).
+pub fn recalibrate_batch_norm(net: &EmotionNet, tracks: &[ArousalTrack]) -> Result<()> {
+    let cfg = net.config();
+    let tracks: Vec<ArousalTrack> = tracks
+        .iter()
+        .map(|t| ArousalTrack {
+            mel_db: cfg.gain_norm.apply(t.mel_db.view()),
+            ..t.clone()
+        })
+        .collect();
+    let pads: Vec<f32> = tracks
+        .iter()
+        .map(|tr| tr.mel_db.iter().copied().fold(f32::INFINITY, f32::min))
+        .collect();
+    let windows = training_windows(&tracks, cfg.steps, 1);
+    let every = windows.len().div_ceil(CALIBRATION_WINDOWS).max(1);
+    let chosen: Vec<(usize, usize)> = windows.into_iter().step_by(every).collect();
+    let batches = chosen
+        .chunks(64)
+        .map(|b| Ok(window_batch(&tracks, &pads, b, &[], cfg)?.0))
+        .collect::<Result<Vec<Tensor>>>()?;
+    net.recalibrate_batch_norm(&batches)
+}
+
 /// Every training window: `(track, first frame)`, `steps` frames every `hop` over the
 /// annotated part of each track (the last one aligned with its end).
 fn training_windows(tracks: &[ArousalTrack], steps: usize, hop: usize) -> Vec<(usize, usize)> {
@@ -366,11 +419,13 @@ fn training_windows(tracks: &[ArousalTrack], steps: usize, hop: usize) -> Vec<(u
 }
 
 /// Inputs `(b, steps, bands)`, targets `(b, steps)` and target mask `(b, steps)` of the
-/// windows `batch` (frames outside a track are its quietest value, unannotated steps masked).
+/// windows `batch` (frames outside a track are its quietest value, unannotated steps masked),
+/// window `k`'s bands shifted up by `shifts[k]` (edge bands repeated).
 fn window_batch(
     tracks: &[ArousalTrack],
     pads: &[f32],
     batch: &[(usize, usize)],
+    shifts: &[i64],
     cfg: &Config,
 ) -> Result<(Tensor, Tensor, Tensor)> {
     let (t, bands, b) = (cfg.steps, cfg.n_mels, batch.len());
@@ -386,6 +441,10 @@ fn window_batch(
             pads[i],
             &mut x[k * t * bands..][..t * bands],
         );
+        let shift = shifts.get(k).copied().unwrap_or(0);
+        if shift != 0 {
+            shift_bands(&mut x[k * t * bands..][..t * bands], bands, shift);
+        }
         for j in 0..t {
             if let Some(&a) = (s + j)
                 .checked_sub(tr.first_frame)
@@ -401,4 +460,31 @@ fn window_batch(
         Tensor::from_vec(y, (b, t), &Device::Cpu)?,
         Tensor::from_vec(mask, (b, t), &Device::Cpu)?,
     ))
+}
+
+/// Shifts every `bands`-long row of `frames` up by `shift` bands (down when negative),
+/// repeating the edge band into the vacated places.
+fn shift_bands(frames: &mut [f32], bands: usize, shift: i64) {
+    let mut row = vec![0.0f32; bands];
+    let last = bands as i64 - 1;
+    for dst in frames.chunks_exact_mut(bands) {
+        row.copy_from_slice(dst);
+        for (b, d) in dst.iter_mut().enumerate() {
+            *d = row[(b as i64 - shift).clamp(0, last) as usize];
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn band_shift_moves_rows_and_repeats_edges() {
+        let mut x = vec![0.0, 1.0, 2.0, 3.0, 10.0, 11.0, 12.0, 13.0];
+        shift_bands(&mut x, 4, 1);
+        assert_eq!(x, vec![0.0, 0.0, 1.0, 2.0, 10.0, 10.0, 11.0, 12.0]);
+        shift_bands(&mut x, 4, -2);
+        assert_eq!(x, vec![1.0, 2.0, 2.0, 2.0, 11.0, 12.0, 12.0, 12.0]);
+    }
 }
