@@ -59,7 +59,13 @@ pub fn evaluate_recording(pipeline: &Pipeline, rec: &LabelledRecording) -> Resul
         right_wrist_l1_px: None,
         skeleton_l1_shoulders: None,
         jitter_px: f64::from(motion.jitter()),
-        bone_length_cv: f64::from(motion.max_bone_length_cv()),
+        // On the 2-D track for every method, so Method 2's rigid 3-D rig and Method 1's 2-D
+        // output are measured alike (projection foreshortens real bones too).
+        bone_length_cv: f64::from(
+            skeleton::metrics::bone_length_cv(motion.frames())
+                .into_iter()
+                .fold(0.0, f32::max),
+        ),
         bowing_attacks_3f: None,
         bow_range_violations: bow_range,
         beat_alignment: refs
