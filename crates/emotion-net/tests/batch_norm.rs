@@ -1,11 +1,10 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 //! Re-estimating the batch-norm statistics without dropout.
 
-use candle_core::{DType, Device};
-use candle_nn::{VarBuilder, VarMap};
-use emotion_net::{Config, EmotionNet};
+mod common;
+
+use emotion_net::Config;
 use net_store::gradcheck::uniform_tensor;
-use net_store::vars;
 
 #[test]
 fn recalibrated_inference_matches_batch_statistics_on_the_calibration_batch() {
@@ -15,20 +14,14 @@ fn recalibrated_inference_matches_batch_statistics_on_the_calibration_batch() {
         gru_dropout: 0.0,
         ..Config::default()
     };
-    let varmap = VarMap::new();
-    let net = EmotionNet::new(
+    let (_, net) = common::seeded_net(
         &cfg,
-        VarBuilder::from_varmap(&varmap, DType::F32, &Device::Cpu),
-    )
-    .unwrap();
-    vars::init_seeded(&varmap, 5, |n, d| {
-        if n.starts_with("norm.") || n.contains("running_") || n.contains("gamma") {
-            None
-        } else {
-            Some((3.0 / d.iter().skip(1).product::<usize>().max(1) as f64).sqrt())
-        }
-    })
-    .unwrap();
+        5,
+        &common::Keep {
+            containing: &["gamma"],
+            zero_biases: false,
+        },
+    );
     let x = uniform_tensor(&[4, 20, 64], 6, 3.0)
         .unwrap()
         .affine(1.0, 2.0)

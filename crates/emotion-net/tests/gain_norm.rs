@@ -2,40 +2,27 @@
 //! Per-recording level normalisation: a louder copy of a recording gives the same arousal,
 //! older weights files read as absolute levels, and bad quantiles are refused.
 
-use candle_core::{DType, Device};
-use candle_nn::{VarBuilder, VarMap};
+mod common;
+
 use emotion_net::estimator::predict_with;
 use emotion_net::model::{Config, EmotionNet, GainNorm};
 use ndarray::Array2;
-use net_store::vars;
 
 fn net(gain_norm: GainNorm) -> EmotionNet {
     let cfg = Config {
         gain_norm,
         ..Config::default()
     };
-    let varmap = VarMap::new();
-    let net = EmotionNet::new(
+    // As the trainer initialises: biases 0, batch-norm scale and shift untouched.
+    common::seeded_net(
         &cfg,
-        VarBuilder::from_varmap(&varmap, DType::F32, &Device::Cpu),
+        3,
+        &common::Keep {
+            containing: &["gamma", "beta"],
+            zero_biases: true,
+        },
     )
-    .unwrap();
-    vars::init_seeded(&varmap, 3, |n, d| {
-        // As the trainer initialises: biases 0, batch-norm scale and shift untouched.
-        if n.starts_with("norm.")
-            || n.contains("running_")
-            || n.contains("gamma")
-            || n.contains("beta")
-        {
-            None
-        } else if n.contains("bias") {
-            Some(0.0)
-        } else {
-            Some((3.0 / d.iter().skip(1).product::<usize>().max(1) as f64).sqrt())
-        }
-    })
-    .unwrap();
-    net
+    .1
 }
 
 fn mel(frames: usize) -> Array2<f32> {

@@ -2,8 +2,10 @@
 //! against central finite differences.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use candle_core::{DType, Device, Tensor, Var};
-use candle_nn::{VarBuilder, VarMap};
+mod common;
+
+use candle_core::{Tensor, Var};
+use candle_nn::VarMap;
 use emotion_net::model::ConvActivation;
 use emotion_net::{Config, EmotionNet};
 use net_store::gradcheck::{check_input_gradient, check_parameter_gradients, uniform_tensor};
@@ -22,21 +24,14 @@ fn net(seed: u64, conv_activation: ConvActivation) -> (VarMap, EmotionNet) {
         gru_dropout: 0.0,
         ..Config::default()
     };
-    let varmap = VarMap::new();
-    let net = EmotionNet::new(
+    common::seeded_net(
         &cfg,
-        VarBuilder::from_varmap(&varmap, DType::F32, &Device::Cpu),
+        seed,
+        &common::Keep {
+            containing: &[],
+            zero_biases: false,
+        },
     )
-    .unwrap();
-    vars::init_seeded(&varmap, seed, |n, d| {
-        if n.starts_with("norm.") || n.contains("running_") {
-            None
-        } else {
-            Some((3.0 / d.iter().skip(1).product::<usize>().max(1) as f64).sqrt())
-        }
-    })
-    .unwrap();
-    (varmap, net)
 }
 
 #[test]
