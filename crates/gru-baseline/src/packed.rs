@@ -219,7 +219,7 @@ mod tests {
 
     /// The kernel on every instruction set this CPU can run, not only the one `Arch::new()`
     /// picks: scalar always, and AVX2/FMA when present. (AVX-512 is not enabled: pulp's
-    /// `x86-v4` feature needs rustc 1.89, above the workspace's 1.85, and measured no faster.)
+    /// `x86-v4` feature needs rustc 1.89, above the workspace's 1.88, and measured no faster.)
     #[test]
     fn every_instruction_set_computes_the_same_product() {
         check_on(pulp::Scalar::new());
