@@ -149,7 +149,7 @@ pub fn estimate_meter(
             let pos = (i + period - phase % period) % period;
             if pos == 0 {
                 0
-            } else if pos % sub == 0 {
+            } else if pos.is_multiple_of(sub) {
                 1
             } else {
                 2

@@ -96,7 +96,7 @@ pub struct OnsetStrength {
 impl OnsetStrength {
     /// Validates `cfg` and plans the spectrogram.
     pub fn new(cfg: OnsetConfig) -> Result<Self> {
-        if cfg.lag == 0 || cfg.max_size == 0 || cfg.max_size % 2 == 0 {
+        if cfg.lag == 0 || cfg.max_size == 0 || cfg.max_size.is_multiple_of(2) {
             return Err(BeatError::InvalidConfig(format!(
                 "lag ({}) must be ≥ 1 and max_size ({}) odd and ≥ 1",
                 cfg.lag, cfg.max_size

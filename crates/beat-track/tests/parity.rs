@@ -36,7 +36,7 @@ fn test_signal(sr: usize, seconds: f64) -> Vec<f32> {
     while 0.2 + 0.4 * (k as f64) < seconds - 0.4 {
         let start = 0.2 + 0.4 * k as f64;
         let f = 220.0 * 2f64.powf(((k * 5 % 7) as f64) / 12.0);
-        let amp = if k % 4 == 0 { 0.6 } else { 0.3 };
+        let amp = if k.is_multiple_of(4) { 0.6 } else { 0.3 };
         for (i, v) in y.iter_mut().enumerate() {
             let t = i as f64 / sr as f64;
             if t >= start && t < start + 0.38 {

@@ -173,7 +173,10 @@ fn check_recordings(recs: &[Recording], what: &str, bands: usize) -> Result<()> 
 
 fn check_config(cfg: &TrainConfig) -> Result<()> {
     cfg.model.validate()?;
-    if cfg.sequence_windows == 0 || cfg.sequence_windows % PHASES != 0 || cfg.batch_sequences == 0 {
+    if cfg.sequence_windows == 0
+        || !cfg.sequence_windows.is_multiple_of(PHASES)
+        || cfg.batch_sequences == 0
+    {
         return Err(NetError::Config(format!(
             "sequence_windows must be a positive multiple of {PHASES} and batch_sequences positive"
         )));

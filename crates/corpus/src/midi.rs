@@ -175,7 +175,7 @@ pub fn timeline_from_midi(bytes: &[u8]) -> Result<Timeline, CorpusError> {
         }
         let t = map.seconds(tick.round() as u64);
         beats_s.push(t);
-        if k % u64::from(beats_per_bar.max(1)) == 0 {
+        if k.is_multiple_of(u64::from(beats_per_bar.max(1))) {
             downbeats_s.push(t);
         }
         k += 1;

@@ -172,7 +172,7 @@ impl Config {
             self.gru_units,
             self.maxout_pieces,
         ];
-        if positive.contains(&0) || self.kernel_size % 2 == 0 {
+        if positive.contains(&0) || self.kernel_size.is_multiple_of(2) {
             return Err(
                 NetError::Config("sizes must be positive and the kernel odd".into()).into(),
             );

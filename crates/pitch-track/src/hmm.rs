@@ -174,13 +174,13 @@ fn transition_row(n: usize, width: usize, i: usize, row: &mut [f64]) {
     let half = width.div_ceil(2);
     let mut window = Vec::with_capacity(width);
     for k in 1..=half {
-        window.push(if width % 2 == 0 {
+        window.push(if width.is_multiple_of(2) {
             (2 * k - 1) as f64 / width as f64
         } else {
             2.0 * k as f64 / (width + 1) as f64
         });
     }
-    let mirrored: Vec<f64> = if width % 2 == 0 {
+    let mirrored: Vec<f64> = if width.is_multiple_of(2) {
         window.iter().rev().copied().collect()
     } else {
         window.iter().rev().skip(1).copied().collect()

@@ -61,7 +61,7 @@ impl PreprocConfig {
                 self.confidence_threshold
             ));
         }
-        if self.median_window == 0 || self.median_window % 2 == 0 {
+        if self.median_window == 0 || self.median_window.is_multiple_of(2) {
             return bad(format!(
                 "median_window must be odd, got {}",
                 self.median_window
@@ -198,7 +198,7 @@ impl LabelConfig {
                 self.lowpass_cutoff_hz
             ));
         }
-        if self.velocity_median_window == 0 || self.velocity_median_window % 2 == 0 {
+        if self.velocity_median_window == 0 || self.velocity_median_window.is_multiple_of(2) {
             return bad(format!(
                 "labels.velocity_median_window must be odd, got {}",
                 self.velocity_median_window

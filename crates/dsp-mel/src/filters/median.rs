@@ -26,7 +26,7 @@ pub enum EdgeMode {
 /// # Ok::<(), dsp_mel::DspError>(())
 /// ```
 pub fn median_filter(x: &[f64], window: usize, edge: EdgeMode) -> Result<Vec<f64>> {
-    if window == 0 || window % 2 == 0 {
+    if window == 0 || window.is_multiple_of(2) {
         return Err(DspError::InvalidConfig(format!(
             "median window must be odd and ≥ 1, got {window}"
         )));

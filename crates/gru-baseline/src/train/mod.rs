@@ -342,7 +342,7 @@ pub fn train(
             state.epochs_since_best = 0;
         } else {
             state.epochs_since_best += 1;
-            if state.epochs_since_best % tcfg.lr_patience == 0 {
+            if state.epochs_since_best.is_multiple_of(tcfg.lr_patience) {
                 adam.learning_rate = (adam.learning_rate * 0.5).max(1e-5);
             }
         }

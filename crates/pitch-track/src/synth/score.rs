@@ -67,7 +67,7 @@ pub fn compose(cfg: &SynthConfig) -> Score {
         while j < bpb {
             let beat = (bar * bpb + j) as f64;
             let long_p = if j == 0 { 0.45 } else { 0.2 };
-            if j + 1 < bpb && j % 2 == 0 && rng.chance(long_p) {
+            if j + 1 < bpb && j.is_multiple_of(2) && rng.chance(long_p) {
                 rhythm.push((beat, 2.0, j == 0));
                 j += 2;
                 continue;
