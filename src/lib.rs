@@ -32,7 +32,10 @@ mod pipeline;
 pub use analysis::{Analysis, AnalyzedNote, ArousalSeries, F0Track};
 pub use error::{Error, Result};
 pub use long_audio::Chunking;
-pub use pipeline::{Method, Pipeline, PipelineBuilder, PlannerKind, StageTimings, MIN_DURATION_S};
+pub use pipeline::{
+    Method, Pipeline, PipelineBuilder, PlannerKind, StageTimings, BOW_CHANGE_SPLIT_MIN_PART_S,
+    MIN_DURATION_S,
+};
 
 pub use dsp_mel::{load_audio, load_audio_at, Audio, AudioReader};
 pub use motion_synth::{Camera, Performance, SynthConfig};

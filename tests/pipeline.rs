@@ -36,6 +36,17 @@ fn demo_clip_gives_a_plausible_violinist() {
     );
     assert!(notes.f1 > 0.8, "note onsets F1 {}", notes.f1);
     assert!(changes.f1 > 0.7, "bow changes F1 {}", changes.f1);
+    // Every bow change well inside a note has split it (a new bow is a new note).
+    let guard = violin_skeleton::BOW_CHANGE_SPLIT_MIN_PART_S;
+    for t in &analysis.bow_changes_s {
+        assert!(
+            !analysis
+                .notes
+                .iter()
+                .any(|n| *t >= n.onset_s + guard && *t <= n.offset_s - guard),
+            "bow change at {t} s lies inside a note"
+        );
+    }
     assert!(analysis
         .arousal
         .values

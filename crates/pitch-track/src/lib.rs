@@ -32,6 +32,7 @@ mod hmm;
 mod notes;
 mod novelty;
 mod prior;
+mod split;
 mod track;
 mod yin;
 
@@ -42,4 +43,5 @@ pub use config::PitchConfig;
 pub use error::{PitchError, Result};
 pub use notes::{segment_notes, segment_notes_with_novelty, Note, NoteConfig};
 pub use novelty::{onset_novelty, NoveltyConfig};
+pub use split::split_notes_at;
 pub use track::{hz_to_midi, midi_to_hz, PitchTrack, PitchTracker};
