@@ -18,7 +18,6 @@
 //!   epoch so `resume` continues where training stopped. The kept weights store their tuned
 //!   decoder (threshold and minimum spacing).
 
-use std::collections::HashMap;
 use std::path::Path;
 use std::time::Instant;
 
@@ -26,7 +25,7 @@ use candle_core::{Device, Tensor};
 use candle_nn::VarMap;
 use corpus::rng::Rng;
 use net_store::{
-    band_statistics, checkpoint_path, load_checkpoint, save_checkpoint, vars, Adam, AdamConfig,
+    checkpoint_path, load_checkpoint, save_checkpoint, set_band_statistics, vars, Adam, AdamConfig,
     LrSchedule, TrainState,
 };
 use serde::{Deserialize, Serialize};
@@ -195,18 +194,11 @@ fn check_config(cfg: &TrainConfig) -> Result<()> {
 /// `train`.
 fn init_network(cfg: &TrainConfig, train: &[Recording]) -> Result<(VarMap, BowingNet)> {
     let (varmap, net) = BowingNet::seeded(&cfg.model, cfg.init, cfg.seed)?;
-    let (mean, std) = band_statistics(train.iter().map(|r| r.mel_db.view()), cfg.model.n_mels);
-    let norm = HashMap::from([
-        (
-            "norm.mean".to_string(),
-            Tensor::new(mean.as_slice(), &Device::Cpu)?,
-        ),
-        (
-            "norm.std".to_string(),
-            Tensor::new(std.as_slice(), &Device::Cpu)?,
-        ),
-    ]);
-    vars::set_vars(&varmap, &norm)?;
+    set_band_statistics(
+        &varmap,
+        train.iter().map(|r| r.mel_db.view()),
+        cfg.model.n_mels,
+    )?;
     Ok((varmap, net))
 }
 

@@ -14,7 +14,7 @@ use candle_core::{DType, Device, Tensor};
 use candle_nn::{VarBuilder, VarMap};
 use corpus::rng::Rng;
 use net_store::{
-    band_statistics, checkpoint_path, load_checkpoint, save_checkpoint, vars, Adam, AdamConfig,
+    checkpoint_path, load_checkpoint, save_checkpoint, set_band_statistics, vars, Adam, AdamConfig,
     LrSchedule, TrainState,
 };
 use serde::{Deserialize, Serialize};
@@ -206,18 +206,11 @@ pub fn train(
             Some((3.0 / fan_in.max(1) as f64).sqrt())
         }
     })?;
-    let (mean, std) = band_statistics(train_tracks.iter().map(|t| t.mel_db.view()), mcfg.n_mels);
-    let fixed = HashMap::from([
-        (
-            "norm.mean".to_string(),
-            Tensor::new(mean.as_slice(), &Device::Cpu)?,
-        ),
-        (
-            "norm.std".to_string(),
-            Tensor::new(std.as_slice(), &Device::Cpu)?,
-        ),
-    ]);
-    vars::set_vars(&varmap, &fixed)?;
+    set_band_statistics(
+        &varmap,
+        train_tracks.iter().map(|t| t.mel_db.view()),
+        mcfg.n_mels,
+    )?;
     let frozen = |n: &str| n.starts_with("norm.") || n.contains("running_");
     let mut adam = Adam::new(
         vars::trainable_vars(&varmap, frozen),

@@ -40,4 +40,4 @@ pub use checkpoint::{checkpoint_path, load_checkpoint, save_checkpoint, TrainSta
 pub use error::{Result, StoreError};
 pub use file::{TensorFile, KEY_FORMAT, KEY_VERSION};
 pub use schedule::LrSchedule;
-pub use stats::band_statistics;
+pub use stats::{band_statistics, set_band_statistics};

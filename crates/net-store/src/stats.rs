@@ -1,6 +1,12 @@
 //! Per-band input normalisation statistics.
 
+use std::collections::HashMap;
+
+use candle_core::{Device, Tensor};
+use candle_nn::VarMap;
 use ndarray::ArrayView2;
+
+use crate::error::Result;
 
 /// Mean and standard deviation (floored at 1e-3) of every band (column) over all frames
 /// (rows) of `spectrograms`; bands beyond `bands` are ignored.
@@ -35,4 +41,26 @@ pub fn band_statistics<'a>(
         .map(|(q, s)| ((q / n - (s / n).powi(2)).max(0.0).sqrt().max(1e-3)) as f32)
         .collect();
     (mean, std)
+}
+
+/// Computes [`band_statistics`] of `spectrograms` and writes them into the variables
+/// `norm.mean` and `norm.std` of `varmap`: the input normalisation a network stores with its
+/// weights (variables `varmap` lacks are left alone).
+pub fn set_band_statistics<'a>(
+    varmap: &VarMap,
+    spectrograms: impl IntoIterator<Item = ArrayView2<'a, f32>>,
+    bands: usize,
+) -> Result<()> {
+    let (mean, std) = band_statistics(spectrograms, bands);
+    let values = HashMap::from([
+        (
+            "norm.mean".to_string(),
+            Tensor::new(mean.as_slice(), &Device::Cpu)?,
+        ),
+        (
+            "norm.std".to_string(),
+            Tensor::new(std.as_slice(), &Device::Cpu)?,
+        ),
+    ]);
+    crate::vars::set_vars(varmap, &values)
 }
