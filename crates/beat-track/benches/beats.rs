@@ -6,7 +6,7 @@
 
 use beat_track::synth::{render, SynthConfig};
 use beat_track::{
-    estimate_meter, estimate_tempo, track_beats, BeatConfig, BeatTracker, OnsetConfig,
+    estimate_meter, estimate_tempo, track_beats, BarEvidence, BeatConfig, BeatTracker, OnsetConfig,
     OnsetStrength,
 };
 use criterion::{criterion_group, criterion_main, Criterion};
@@ -55,7 +55,15 @@ fn bench(c: &mut Criterion) {
         b.iter(|| track_beats(&env.mean, bpm, frame_rate, cfg.tightness, cfg.trim))
     });
     group.bench_function("meter_with_notes", |b| {
-        b.iter(|| estimate_meter(&beats_s, &env, Some(&notes), bpm, &cfg.meter))
+        b.iter(|| {
+            estimate_meter(
+                &beats_s,
+                &env,
+                BarEvidence::notes(Some(&notes)),
+                bpm,
+                &cfg.meter,
+            )
+        })
     });
     group.finish();
 }

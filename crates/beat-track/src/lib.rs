@@ -26,9 +26,11 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod bar_features;
 mod dp;
 mod error;
 pub mod eval;
+pub mod level;
 pub mod meter;
 mod onset;
 mod pair_fft;
@@ -37,8 +39,10 @@ mod spectrum;
 mod tempo;
 mod tracker;
 
+pub use bar_features::{BarEvidence, BeatFeatures};
 pub use dp::track_beats;
 pub use error::{BeatError, Result};
+pub use level::{LevelCandidate, LevelConfig, LevelFeatures, LevelWeights};
 pub use meter::{estimate_meter, Meter, MeterConfig, MeterEstimate};
 pub use onset::{Aggregate, OnsetConfig, OnsetEnvelope, OnsetStrength};
 pub use peaks::{onset_detect, peak_pick, PeakPick};

@@ -30,8 +30,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use pitch_track::Note;
-
+use crate::bar_features::{BarEvidence, BeatFeatures};
 use crate::onset::OnsetEnvelope;
 
 /// Beats per bar and subdivisions per beat: 4/4 = `{4, 2}`, 3/4 = `{3, 2}`, 2/4 = `{2, 2}`,
@@ -67,21 +66,28 @@ pub struct MeterConfig {
     pub rest_weight: f64,
     /// Shortest rest that counts, in beats.
     pub min_rest_beats: f64,
+    /// Weight of a bow change on the beat (when bow changes are given).
+    #[serde(default)]
+    pub bow_weight: f64,
 }
 
 impl Default for MeterConfig {
+    /// The feature weights were found by `scripts/fit_meter.py` on the corpus's training
+    /// and validation items (151): the onset-free space and the pitch change add nothing
+    /// there once accent, loudness, note length and rests are counted, so they weigh 0.
     fn default() -> Self {
         Self {
             accent_weight: 1.0,
-            level_weight: 1.0,
-            space_weight: 0.7,
-            duration_weight: 0.7,
-            change_weight: 0.4,
+            level_weight: 0.0,
+            space_weight: 0.0,
+            duration_weight: 0.262,
+            change_weight: 0.0,
             subdivision_min_bpm: 130.0,
             subdivision_penalty: 1.0,
             note_tolerance_s: 0.07,
-            rest_weight: 1.0,
+            rest_weight: 0.5,
             min_rest_beats: 0.5,
+            bow_weight: 1.0,
         }
     }
 }
@@ -102,12 +108,13 @@ pub struct MeterEstimate {
 }
 
 /// Chooses the metre and the downbeats of `beats_s` from the onset curves of `envelope`
-/// (the mean-aggregated onset strength and the loudness) and optional `notes`.
+/// (the mean-aggregated onset strength and the loudness) and the optional notes and bow
+/// changes of `evidence`.
 /// With fewer than four beats the metre defaults to 4/4 and the first beat is the downbeat.
 pub fn estimate_meter(
     beats_s: &[f64],
     envelope: &OnsetEnvelope,
-    notes: Option<&[Note]>,
+    evidence: BarEvidence<'_>,
     tempo_bpm: f64,
     cfg: &MeterConfig,
 ) -> MeterEstimate {
@@ -125,7 +132,7 @@ pub fn estimate_meter(
     if beats_s.len() < 4 || hop_s <= 0.0 {
         return fallback();
     }
-    let strength = beat_strengths(beats_s, envelope, notes, cfg);
+    let strength = BeatFeatures::new(beats_s, envelope, evidence, cfg).strength(cfg);
     let n = strength.len();
     let ln_n = (n as f64).ln();
     // (beats per bar at the beat level, tracked beats per beat, phase of the first downbeat)
@@ -215,111 +222,10 @@ fn fit(strength: &[f64], label: impl Fn(usize) -> usize) -> (f64, [f64; 3]) {
     (rss, mean)
 }
 
-/// The weighted sum of z-scored features of every beat.
-fn beat_strengths(
-    beats_s: &[f64],
-    onsets: &OnsetEnvelope,
-    notes: Option<&[Note]>,
-    cfg: &MeterConfig,
-) -> Vec<f64> {
-    let (envelope, hop_s) = (&onsets.mean[..], onsets.hop_s);
-    let n = beats_s.len();
-    let frame =
-        |t: f64| ((t / hop_s).round().max(0.0) as usize).min(envelope.len().saturating_sub(1));
-    let ibi = |i: usize| {
-        if i + 1 < n {
-            beats_s[i + 1] - beats_s[i]
-        } else {
-            beats_s[i] - beats_s[i - 1]
-        }
-    };
-    let reach = ((0.05 / hop_s).round() as usize).max(1);
-    let mut accent = Vec::with_capacity(n);
-    let mut space = Vec::with_capacity(n);
-    let mut level = Vec::with_capacity(n);
-    for (i, &b) in beats_s.iter().enumerate() {
-        if envelope.is_empty() || onsets.loudness_db.len() != envelope.len() {
-            accent.push(0.0);
-            space.push(0.0);
-            level.push(0.0);
-            continue;
-        }
-        let c = frame(b);
-        let peak = envelope[c.saturating_sub(reach)..(c + reach + 1).min(envelope.len())]
-            .iter()
-            .copied()
-            .fold(0.0f32, f32::max);
-        accent.push(f64::from(peak).ln_1p());
-        let (lo, hi) = (frame(b + 0.15 * ibi(i)), frame(b + 0.85 * ibi(i)));
-        let inside = &envelope[lo..hi.max(lo + 1).min(envelope.len())];
-        let mean = inside.iter().map(|&v| f64::from(v)).sum::<f64>() / inside.len().max(1) as f64;
-        space.push(-mean.ln_1p());
-        let (lo, hi) = (frame(b + 0.05 * ibi(i)), frame(b + 0.5 * ibi(i)));
-        let first_half = &onsets.loudness_db[lo..hi.max(lo + 1).min(envelope.len())];
-        level.push(
-            first_half.iter().map(|&v| f64::from(v)).sum::<f64>() / first_half.len().max(1) as f64,
-        );
-    }
-    let mut strength = vec![0.0; n];
-    add_scaled(&mut strength, &accent, cfg.accent_weight);
-    add_scaled(&mut strength, &space, cfg.space_weight);
-    add_scaled(&mut strength, &level, cfg.level_weight);
-    if let Some(notes) = notes.filter(|n| !n.is_empty()) {
-        let mut duration = Vec::with_capacity(n);
-        let mut change = Vec::with_capacity(n);
-        let mut rest = Vec::with_capacity(n);
-        for (i, &b) in beats_s.iter().enumerate() {
-            let starting = notes
-                .iter()
-                .enumerate()
-                .filter(|(_, x)| (x.onset_s - b).abs() <= cfg.note_tolerance_s)
-                .min_by(|a, c| (a.1.onset_s - b).abs().total_cmp(&(c.1.onset_s - b).abs()));
-            match starting {
-                Some((k, note)) => {
-                    duration.push(((note.offset_s - note.onset_s) / ibi(i)).max(0.125).log2());
-                    let changed = k == 0 || notes[k - 1].midi != note.midi;
-                    change.push(if changed { 1.0 } else { 0.0 });
-                    let gap = if k == 0 {
-                        f64::INFINITY
-                    } else {
-                        note.onset_s - notes[k - 1].offset_s
-                    };
-                    rest.push(if gap >= cfg.min_rest_beats * ibi(i) {
-                        1.0
-                    } else {
-                        0.0
-                    });
-                }
-                None => {
-                    let held = notes.iter().any(|x| x.onset_s < b && x.offset_s > b);
-                    duration.push(if held { -1.0 } else { 0.0 });
-                    change.push(0.0);
-                    rest.push(0.0);
-                }
-            }
-        }
-        add_scaled(&mut strength, &duration, cfg.duration_weight);
-        add_scaled(&mut strength, &change, cfg.change_weight);
-        add_scaled(&mut strength, &rest, cfg.rest_weight);
-    }
-    strength
-}
-
-/// `acc += weight · zscore(feature)` (a constant feature adds nothing).
-fn add_scaled(acc: &mut [f64], feature: &[f64], weight: f64) {
-    let n = feature.len() as f64;
-    let mean = feature.iter().sum::<f64>() / n;
-    let sd = (feature.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / n).sqrt();
-    if sd > 1e-12 {
-        for (a, v) in acc.iter_mut().zip(feature) {
-            *a += weight * (v - mean) / sd;
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use pitch_track::Note;
 
     fn accents(m: usize, n: usize, offset: usize) -> (Vec<f64>, OnsetEnvelope) {
         let hop_s = 0.01;
@@ -346,7 +252,13 @@ mod tests {
     fn finds_bar_length_and_phase_from_accents() {
         for (m, offset) in [(4, 1), (3, 2), (2, 0)] {
             let (beats, env) = accents(m, 48, offset);
-            let est = estimate_meter(&beats, &env, None, 120.0, &MeterConfig::default());
+            let est = estimate_meter(
+                &beats,
+                &env,
+                BarEvidence::default(),
+                120.0,
+                &MeterConfig::default(),
+            );
             assert_eq!(est.meter.beats_per_bar as usize, m);
             assert!((est.downbeats_s[0] - beats[offset]).abs() < 1e-9);
         }
@@ -373,7 +285,13 @@ mod tests {
                 midi: 69,
             })
             .collect();
-        let est = estimate_meter(&beats, &flat, Some(&notes), 120.0, &MeterConfig::default());
+        let est = estimate_meter(
+            &beats,
+            &flat,
+            BarEvidence::notes(Some(&notes)),
+            120.0,
+            &MeterConfig::default(),
+        );
         assert_eq!(est.meter.beats_per_bar, 3);
         assert!(
             (est.downbeats_s[0] - beats[2]).abs() < 1e-9,
@@ -384,7 +302,13 @@ mod tests {
             rest_weight: 0.0,
             ..MeterConfig::default()
         };
-        let est = estimate_meter(&beats, &flat, Some(&notes), 120.0, &without);
+        let est = estimate_meter(
+            &beats,
+            &flat,
+            BarEvidence::notes(Some(&notes)),
+            120.0,
+            &without,
+        );
         assert!((est.downbeats_s[0] - beats[2]).abs() > 1e-9);
     }
 
@@ -396,9 +320,21 @@ mod tests {
             median: vec![0.0; 300],
             loudness_db: vec![0.0; 300],
         };
-        let est = estimate_meter(&[1.0, 1.5], &flat, None, 120.0, &MeterConfig::default());
+        let est = estimate_meter(
+            &[1.0, 1.5],
+            &flat,
+            BarEvidence::default(),
+            120.0,
+            &MeterConfig::default(),
+        );
         assert_eq!(est.downbeats_s, vec![1.0]);
-        let none = estimate_meter(&[], &flat, None, 0.0, &MeterConfig::default());
+        let none = estimate_meter(
+            &[],
+            &flat,
+            BarEvidence::default(),
+            0.0,
+            &MeterConfig::default(),
+        );
         assert!(none.downbeats_s.is_empty());
     }
 }

@@ -158,14 +158,36 @@ pub fn estimate_tempo(
     hop_length: usize,
     cfg: &TempoConfig,
 ) -> Option<f64> {
-    let sr = f64::from(sample_rate_hz);
-    let win_length = ((cfg.ac_size_s * sr).floor() as usize) / hop_length.max(1);
-    if win_length < 2 {
-        return None;
-    }
+    let win_length = tempogram_window(sample_rate_hz, hop_length, cfg)?;
     let tg = mean_tempogram_strided(envelope, win_length, cfg.frame_stride);
-    let bpm_of = |lag: usize| 60.0 * sr / (hop_length as f64 * lag as f64);
-    (1..win_length)
+    tempo_from_tempogram(&tg, sample_rate_hz, hop_length, cfg)
+}
+
+/// The number of onset frames in the tempogram window of `cfg` (`None` when below 2).
+pub(crate) fn tempogram_window(
+    sample_rate_hz: u32,
+    hop_length: usize,
+    cfg: &TempoConfig,
+) -> Option<usize> {
+    let win_length =
+        ((cfg.ac_size_s * f64::from(sample_rate_hz)).floor() as usize) / hop_length.max(1);
+    (win_length >= 2).then_some(win_length)
+}
+
+/// The tempo of a lag in bpm.
+pub(crate) fn bpm_of_lag(lag: usize, sample_rate_hz: u32, hop_length: usize) -> f64 {
+    60.0 * f64::from(sample_rate_hz) / (hop_length as f64 * lag as f64)
+}
+
+/// librosa's choice on a mean tempogram: the lag maximising `ln(1 + 10⁶·tg) + prior`.
+pub(crate) fn tempo_from_tempogram(
+    tg: &[f64],
+    sample_rate_hz: u32,
+    hop_length: usize,
+    cfg: &TempoConfig,
+) -> Option<f64> {
+    let bpm_of = |lag: usize| bpm_of_lag(lag, sample_rate_hz, hop_length);
+    (1..tg.len())
         .filter(|&lag| bpm_of(lag) < cfg.max_tempo_bpm)
         .map(|lag| {
             let bpm = bpm_of(lag);
