@@ -33,8 +33,8 @@ pub use analysis::{Analysis, AnalyzedNote, ArousalSeries, F0Track};
 pub use error::{Error, Result};
 pub use long_audio::Chunking;
 pub use pipeline::{
-    Method, Pipeline, PipelineBuilder, PlannerKind, StageTimings, BOW_CHANGE_SPLIT_MIN_PART_S,
-    MIN_DURATION_S,
+    Method, Pipeline, PipelineBuilder, PlannerKind, StageTimings, BOW_CHANGE_ONSET_LEAD_S,
+    BOW_CHANGE_SPLIT_MIN_PART_S, MIN_DURATION_S,
 };
 
 pub use dsp_mel::{load_audio, load_audio_at, Audio, AudioReader};

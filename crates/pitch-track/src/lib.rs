@@ -43,5 +43,5 @@ pub use config::PitchConfig;
 pub use error::{PitchError, Result};
 pub use notes::{segment_notes, segment_notes_with_novelty, Note, NoteConfig};
 pub use novelty::{onset_novelty, NoveltyConfig};
-pub use split::split_notes_at;
+pub use split::{split_notes_at, start_notes_at};
 pub use track::{hz_to_midi, midi_to_hz, PitchTrack, PitchTracker};

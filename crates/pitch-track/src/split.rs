@@ -44,6 +44,40 @@ pub fn split_notes_at(notes: &[Note], times_s: &[f64], min_part_s: f64) -> Vec<N
     out
 }
 
+/// Moves each note's onset back to the latest of `times_s` that lies less than
+/// `max_lead_s` before it (and after the previous note's onset), shortening the previous
+/// note if it overlaps: the pitch path confirms a new note only after a few frames of its
+/// pitch, while a bow change marks when it began. `times_s` must be sorted.
+///
+/// ```
+/// use pitch_track::{start_notes_at, Note};
+/// let notes = [
+///     Note { onset_s: 0.0, offset_s: 1.02, midi: 69 },
+///     Note { onset_s: 1.02, offset_s: 2.0, midi: 71 },
+/// ];
+/// let moved = start_notes_at(&notes, &[1.0, 1.5], 0.03);
+/// assert_eq!((moved[0].offset_s, moved[1].onset_s), (1.0, 1.0));
+/// assert_eq!(moved[1].offset_s, 2.0);
+/// ```
+pub fn start_notes_at(notes: &[Note], times_s: &[f64], max_lead_s: f64) -> Vec<Note> {
+    let mut out: Vec<Note> = Vec::with_capacity(notes.len());
+    for note in notes {
+        let mut n = *note;
+        let j = times_s.partition_point(|&t| t < n.onset_s);
+        if let Some(&t) = j.checked_sub(1).and_then(|k| times_s.get(k)) {
+            let after_previous = out.last().is_none_or(|p| t > p.onset_s);
+            if n.onset_s - t < max_lead_s && after_previous {
+                n.onset_s = t;
+                if let Some(p) = out.last_mut() {
+                    p.offset_s = p.offset_s.min(t);
+                }
+            }
+        }
+        out.push(n);
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -54,6 +88,22 @@ mod tests {
             offset_s: off,
             midi,
         }
+    }
+
+    #[test]
+    fn onsets_move_back_to_a_time_just_before_them_only() {
+        let notes = [note(0.0, 0.5, 60), note(0.5, 1.0, 62), note(1.2, 2.0, 64)];
+        // 0.48 leads the second note by 20 ms; 1.1 leads the third by 100 ms (too far);
+        // nothing precedes the first.
+        let out = start_notes_at(&notes, &[0.48, 1.1], 0.03);
+        let spans: Vec<(f64, f64)> = out.iter().map(|n| (n.onset_s, n.offset_s)).collect();
+        assert_eq!(spans, vec![(0.0, 0.48), (0.48, 1.0), (1.2, 2.0)]);
+        // A time at or before the previous onset never reorders notes.
+        let tight = [note(0.0, 0.01, 60), note(0.01, 0.5, 62)];
+        let out = start_notes_at(&tight, &[0.0], 0.03);
+        assert_eq!(out[1].onset_s, 0.01);
+        assert!(start_notes_at(&[], &[1.0], 0.03).is_empty());
+        assert_eq!(start_notes_at(&notes, &[], 0.03), notes.to_vec());
     }
 
     #[test]
