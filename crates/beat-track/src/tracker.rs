@@ -1,5 +1,6 @@
 //! The whole chain: onset strength → onsets, tempo → beats → metre and downbeats.
 
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use pitch_track::Note;
@@ -233,7 +234,8 @@ impl BeatTracker {
         };
         let bpm_of = |lag: usize| bpm_of_lag(lag, oc.sample_rate_hz, oc.hop_length);
         let candidates = tempogram_peaks(&tg, bpm_of, lc.min_bpm, tc.max_tempo_bpm, lc.candidates)
-            .into_iter()
+            // Each candidate's dynamic programme is independent: one per core.
+            .into_par_iter()
             .filter_map(|lag| {
                 let bpm = bpm_of(lag);
                 let beats_s = self.beats_at(beat_env, frame_s, bpm);
