@@ -313,6 +313,43 @@ mod tests {
     }
 
     #[test]
+    fn bow_changes_mark_bar_lines() {
+        // Flat onset curves and no notes: only the bow changes, on beats 1, 4, 7, … (and on
+        // a few others, as a real bow changes within bars too), tell the bar.
+        let flat = OnsetEnvelope {
+            hop_s: 0.01,
+            mean: vec![1.0; 3000],
+            median: vec![1.0; 3000],
+            loudness_db: vec![0.0; 3000],
+        };
+        let beats: Vec<f64> = (0..48).map(|i| 0.5 + 0.5 * i as f64).collect();
+        let bows: Vec<f64> = beats
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| i % 3 == 1 || i % 7 == 0)
+            .map(|(_, &b)| b + 0.02)
+            .collect();
+        let evidence = BarEvidence {
+            notes: None,
+            bow_changes_s: Some(&bows),
+        };
+        let est = estimate_meter(&beats, &flat, evidence, 120.0, &MeterConfig::default());
+        assert_eq!(est.meter.beats_per_bar, 3);
+        assert!(
+            (est.downbeats_s[0] - beats[1]).abs() < 1e-9,
+            "{:?}",
+            est.downbeats_s
+        );
+        // Weighted 0, the bow changes say nothing: the first beat stays the downbeat.
+        let deaf = MeterConfig {
+            bow_weight: 0.0,
+            ..MeterConfig::default()
+        };
+        let est = estimate_meter(&beats, &flat, evidence, 120.0, &deaf);
+        assert_eq!(est.downbeats_s[0], beats[0]);
+    }
+
+    #[test]
     fn too_few_beats_fall_back_to_the_first_beat() {
         let flat = OnsetEnvelope {
             hop_s: 0.01,

@@ -127,3 +127,86 @@ fn rubato_is_followed() {
     let f = beat_prf(&piece.beats_s, &a.beats_s, BEAT_TOLERANCE_S).f_measure;
     assert!(f >= 0.85, "beat F {f}");
 }
+
+#[test]
+fn the_chosen_level_is_the_best_scoring_candidate() {
+    let piece = render(&SynthConfig::varied(3, 20.0)).unwrap();
+    let tracker = BeatTracker::new(BeatConfig::default()).unwrap();
+    let candidates = tracker.level_candidates(&piece.samples, None).unwrap();
+    assert!(candidates.len() >= 2, "{} candidates", candidates.len());
+    assert!(candidates.len() <= BeatConfig::default().level.candidates);
+    let best = candidates
+        .iter()
+        .reduce(|b, c| if c.score > b.score { c } else { b })
+        .unwrap();
+    for c in &candidates {
+        assert!((c.score - c.features.score(&BeatConfig::default().level.weights)).abs() < 1e-12);
+        assert!(c.beats_s.windows(2).all(|w| w[1] > w[0]));
+    }
+    let a = tracker.track(&piece.samples, None).unwrap();
+    // The metre step may keep every beat, or every second/third for a finer reading.
+    let ratio = best.tempo_bpm / a.tempo_bpm;
+    assert!(
+        [1.0, 2.0, 3.0].iter().any(|r| (ratio - r).abs() < 1e-9),
+        "candidate {} bpm, result {} bpm",
+        best.tempo_bpm,
+        a.tempo_bpm
+    );
+    // Without a level choice the tracker is librosa's beat_track (frame times, no latency).
+    let librosa = BeatTracker::new(BeatConfig {
+        level: beat_track::LevelConfig {
+            candidates: 0,
+            ..Default::default()
+        },
+        ..BeatConfig::default()
+    })
+    .unwrap();
+    assert!(librosa
+        .level_candidates(&piece.samples, None)
+        .unwrap()
+        .is_empty());
+    assert!(!librosa
+        .track(&piece.samples, None)
+        .unwrap()
+        .beats_s
+        .is_empty());
+}
+
+#[test]
+fn beats_are_reported_latency_earlier() {
+    let piece = render(&SynthConfig::varied(5, 15.0)).unwrap();
+    let at = |latency_s| {
+        BeatTracker::new(BeatConfig {
+            latency_s,
+            ..BeatConfig::default()
+        })
+        .unwrap()
+        .level_candidates(&piece.samples, None)
+        .unwrap()
+    };
+    let (none, some) = (at(0.0), at(0.04));
+    // Same candidates, every beat (but one clamped at 0) 40 ms earlier.
+    assert_eq!(none.len(), some.len());
+    for (a, b) in none.iter().zip(&some) {
+        assert_eq!(a.tempo_bpm, b.tempo_bpm);
+        for (x, y) in a.beats_s.iter().zip(&b.beats_s) {
+            assert!((y - (x - 0.04).max(0.0)).abs() < 1e-9);
+        }
+    }
+    for bad in [-0.01, f64::NAN] {
+        assert!(BeatTracker::new(BeatConfig {
+            latency_s: bad,
+            ..BeatConfig::default()
+        })
+        .is_err());
+    }
+}
+
+#[test]
+fn the_same_input_gives_the_same_beats() {
+    let piece = render(&SynthConfig::varied(7, 15.0)).unwrap();
+    let tracker = BeatTracker::new(BeatConfig::default()).unwrap();
+    let a = tracker.track(&piece.samples, None).unwrap();
+    let b = tracker.track(&piece.samples, None).unwrap();
+    assert_eq!(a, b);
+}
