@@ -10,8 +10,11 @@
 //!   ([`TempoConfig::frame_stride`]; [`mean_tempogram`] keeps librosa's every window).
 //! * [`track_beats`] — `librosa.beat.beat_track`'s dynamic programme (Ellis 2007,
 //!   tightness 100), which follows tempo drift (rubato) beat by beat.
-//! * [`estimate_meter`] — beats per bar (2, 3, 4 or 6/8) and bar phase from accents, onset-
-//!   free space after strong beats and, when given, notes from `pitch-track` (see [`meter`]).
+//! * [`level`] — which tempo to track: every strong tempogram peak is tracked and the beat
+//!   sequences are scored on how notes and onsets fall on them (librosa takes the
+//!   prior-weighted maximum, which on violin music is often double or 3/2 the beat).
+//! * [`estimate_meter`] — beats per bar (2, 3, 4 or 6/8) and bar phase from accents and,
+//!   when given ([`BarEvidence`]), notes from `pitch-track` and bow changes (see [`meter`]).
 //! * [`BeatTracker`] — all of it in one call → [`BeatAnalysis`].
 //! * [`eval`] — beat/downbeat F-measure as mir_eval; [`synth`] — the labelled synthetic
 //!   violin of `pitch-track`, re-exported.

@@ -9,7 +9,12 @@
 //!   starting on the beat (−1 when a note is held through the beat), **change** — a new
 //!   pitch starts on the beat (harmony moves at bar lines), and **rest** — the note starting
 //!   on the beat follows a rest of at least [`MeterConfig::min_rest_beats`] (phrases start
-//!   after rests, and at bar lines).
+//!   after rests, and at bar lines);
+//! * with bow changes (e.g. from `bowing-net`): **bow** — a bow change on the beat (phrases,
+//!   and so bars, start with a new bow).
+//!
+//! The default weights were fitted by `scripts/fit_meter.py` on a 480-item synthetic
+//! corpus; level, space and change weigh 0 there (see the crate README).
 //!
 //! Each *hypothesis* labels every tracked beat as a downbeat, a beat or a subdivision:
 //! * the tracked beats are the beats, `M` ∈ {2, 3, 4} per bar, phase `φ`
