@@ -29,6 +29,8 @@ import mir_eval
 import numpy as np
 from scipy.optimize import minimize
 
+from fitting import five_fold_cv
+
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 DUMP = ROOT / "target" / "release" / "examples" / "level_features"
 NAMES = ["ln_tempogram", "prior", "note_coverage", "onset_coverage", "note_length"]
@@ -89,16 +91,11 @@ def main():
     data = load(args.corpus, set(args.splits.split(",")))
     allx = np.concatenate([d["x"] for d in data])
     mu, sd = allx.mean(0), allx.std(0) + 1e-9
-    rng = np.random.default_rng(1)
-    order = rng.permutation(len(data))
-    folds = np.array_split(order, 5)
-    cv = []
-    for k in range(5):
-        held = set(folds[k].tolist())
-        w = fit([data[i] for i in order if i not in held], mu, sd, args.l2)
-        cv.append(chosen_f([data[i] for i in folds[k]], w, mu, sd))
+    cv = five_fold_cv(
+        data, lambda part: fit(part, mu, sd, args.l2), lambda part, w: chosen_f(part, w, mu, sd)
+    )
     w = fit(data, mu, sd, args.l2)
-    print(f"{len(data)} items of {args.splits}; 5-fold CV beat F {np.mean(cv):.3f}")
+    print(f"{len(data)} items of {args.splits}; 5-fold CV beat F {cv:.3f}")
     print("weights (raw units):")
     for name, v in zip(RUST_NAMES, w / sd):
         print(f"  {name}: {v:.2f},")

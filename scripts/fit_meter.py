@@ -31,6 +31,8 @@ import tempfile
 import mir_eval
 import numpy as np
 
+from fitting import five_fold_cv
+
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 DUMP = ROOT / "target" / "release" / "examples" / "level_features"
 FEATURES = ["accent", "level", "space", "duration", "change", "rest", "bow"]
@@ -143,15 +145,8 @@ def main():
                for d in data)
     print(f"{len(data)} items of {args.splits}; this script and estimate_meter agree on {same}")
     print(f"downbeat F, current weights: {mean_f(data, CURRENT):.3f}")
-    rng = np.random.default_rng(1)
-    order = rng.permutation(len(data))
-    folds = np.array_split(order, 5)
-    cv = []
-    for k in range(5):
-        held = set(folds[k].tolist())
-        w, _ = search([data[i] for i in order if i not in held], CURRENT)
-        cv.append(mean_f([data[i] for i in folds[k]], w))
-    print(f"5-fold CV downbeat F of the search: {np.mean(cv):.3f}")
+    cv = five_fold_cv(data, lambda part: search(part, CURRENT)[0], mean_f)
+    print(f"5-fold CV downbeat F of the search: {cv:.3f}")
     w, f = search(data, CURRENT)
     print(f"weights found on all items (downbeat F {f:.3f}):")
     for name, v in zip(FEATURES, w):

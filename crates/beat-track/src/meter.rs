@@ -269,18 +269,23 @@ mod tests {
         }
     }
 
-    #[test]
-    fn rests_before_notes_mark_phrase_starts() {
-        // Flat onset curves; a note on every beat, and a 0.3 s rest after the notes on beats
-        // 1, 4, 7, …: the notes on beats 2, 5, 8, … start phrases. The short notes make
-        // beats 1, 4, … weak, which alone cannot tell phase 2 from phase 0.
+    /// Flat onset curves (3000 frames of 10 ms) and 48 beats every 0.5 s from 0.5 s.
+    fn flat_curves_and_beats() -> (OnsetEnvelope, Vec<f64>) {
         let flat = OnsetEnvelope {
             hop_s: 0.01,
             mean: vec![1.0; 3000],
             median: vec![1.0; 3000],
             loudness_db: vec![0.0; 3000],
         };
-        let beats: Vec<f64> = (0..48).map(|i| 0.5 + 0.5 * i as f64).collect();
+        (flat, (0..48).map(|i| 0.5 + 0.5 * i as f64).collect())
+    }
+
+    #[test]
+    fn rests_before_notes_mark_phrase_starts() {
+        // Flat onset curves; a note on every beat, and a 0.3 s rest after the notes on beats
+        // 1, 4, 7, …: the notes on beats 2, 5, 8, … start phrases. The short notes make
+        // beats 1, 4, … weak, which alone cannot tell phase 2 from phase 0.
+        let (flat, beats) = flat_curves_and_beats();
         let notes: Vec<Note> = beats
             .iter()
             .enumerate()
@@ -321,13 +326,7 @@ mod tests {
     fn bow_changes_mark_bar_lines() {
         // Flat onset curves and no notes: only the bow changes, on beats 1, 4, 7, … (and on
         // a few others, as a real bow changes within bars too), tell the bar.
-        let flat = OnsetEnvelope {
-            hop_s: 0.01,
-            mean: vec![1.0; 3000],
-            median: vec![1.0; 3000],
-            loudness_db: vec![0.0; 3000],
-        };
-        let beats: Vec<f64> = (0..48).map(|i| 0.5 + 0.5 * i as f64).collect();
+        let (flat, beats) = flat_curves_and_beats();
         let bows: Vec<f64> = beats
             .iter()
             .enumerate()
