@@ -4,6 +4,7 @@ use serde::{Deserialize, Serialize};
 
 use pitch_track::Note;
 
+use crate::level::has_event_near;
 use crate::meter::MeterConfig;
 use crate::onset::OnsetEnvelope;
 
@@ -143,18 +144,7 @@ impl BeatFeatures {
         let bow = match evidence.bow_changes_s.filter(|b| !b.is_empty()) {
             Some(bows) => beats_s
                 .iter()
-                .map(|&b| {
-                    let j = bows.partition_point(|&x| x < b);
-                    let near = |k: usize| {
-                        bows.get(k)
-                            .is_some_and(|&x| (x - b).abs() <= cfg.note_tolerance_s)
-                    };
-                    if near(j) || (j > 0 && near(j - 1)) {
-                        1.0
-                    } else {
-                        0.0
-                    }
-                })
+                .map(|&b| f64::from(u8::from(has_event_near(bows, b, cfg.note_tolerance_s))))
                 .collect(),
             None => Vec::new(),
         };

@@ -16,9 +16,8 @@
 //!   each beat (−3 where none starts): long notes begin on beats, not between them.
 //!
 //! The candidate with the highest weighted sum wins. The weights ([`LevelWeights::default`])
-//! were fitted by `scripts/fit_beat_level.py` on the training and validation items of the
-//! synthetic corpus (see the crate README); without notes, the detected onsets stand in for
-//! them.
+//! were fitted by `scripts/fit_beat_level.py` on a 480-item synthetic corpus (see the crate
+//! README); without notes, the detected onsets stand in for them.
 
 use serde::{Deserialize, Serialize};
 
@@ -40,7 +39,8 @@ pub struct LevelWeights {
 }
 
 impl Default for LevelWeights {
-    /// Fitted by `scripts/fit_beat_level.py` on corpus-mix train+val (151 items).
+    /// Fitted by `scripts/fit_beat_level.py --splits train,val,test` on a 480-item corpus
+    /// (`violin-skeleton corpus --minutes 240 --seed 777 --renderer mix`).
     fn default() -> Self {
         Self {
             tempogram: 4.01,
@@ -148,9 +148,21 @@ fn coverage(times: &[f64], events: &[f64], tol: f64) -> f64 {
     }
     let hits = times
         .iter()
-        .filter(|&&t| nearest(events, t).is_some_and(|k| (events[k] - t).abs() <= tol))
+        .filter(|&&t| has_event_near(events, t, tol))
         .count();
     hits as f64 / times.len() as f64
+}
+
+/// Whether one of the sorted `events` lies within `tol` of `t`.
+pub(crate) fn has_event_near(events: &[f64], t: f64, tol: f64) -> bool {
+    nearest(events, t).is_some_and(|k| (events[k] - t).abs() <= tol)
+}
+
+/// The median gap between consecutive sorted `times` (the upper one of an even count).
+fn median_gap(times: &[f64]) -> Option<f64> {
+    let mut gaps: Vec<f64> = times.windows(2).map(|w| w[1] - w[0]).collect();
+    gaps.sort_by(f64::total_cmp);
+    gaps.get(gaps.len() / 2).copied()
 }
 
 /// Index of the element of the sorted `events` nearest to `t`.
@@ -178,9 +190,7 @@ pub fn level_features(
     onsets_s: &[f64],
     tolerance_s: f64,
 ) -> LevelFeatures {
-    let mut gaps: Vec<f64> = beats_s.windows(2).map(|w| w[1] - w[0]).collect();
-    gaps.sort_by(f64::total_cmp);
-    let ibi = gaps.get(gaps.len() / 2).copied().unwrap_or(60.0 / bpm);
+    let ibi = median_gap(beats_s).unwrap_or(60.0 / bpm);
     let note_onsets: Vec<f64> = notes.iter().map(|n| n.onset_s).collect();
     let note_length = if beats_s.is_empty() {
         -3.0
@@ -210,9 +220,7 @@ pub fn level_features(
 /// Notes standing in for missing `pitch-track` notes: each onset lasts until the next one
 /// (the last one for the median gap).
 pub fn notes_from_onsets(onsets_s: &[f64]) -> Vec<Note> {
-    let mut gaps: Vec<f64> = onsets_s.windows(2).map(|w| w[1] - w[0]).collect();
-    gaps.sort_by(f64::total_cmp);
-    let last_gap = gaps.get(gaps.len() / 2).copied().unwrap_or(0.5);
+    let last_gap = median_gap(onsets_s).unwrap_or(0.5);
     onsets_s
         .iter()
         .enumerate()
