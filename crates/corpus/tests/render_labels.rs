@@ -1,5 +1,5 @@
 //! The built-in renderer's audio agrees with the labels: bow changes leave an acoustic trace
-//! (amplitude dip, new attack), slurred changes do not, onsets are on time, rests are silent.
+//! (amplitude dip, new attack), slurred changes do not (but a repeated pitch does), onsets are on time, rests are silent.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use corpus::etude::{generate, EtudeConfig};
@@ -46,7 +46,8 @@ fn dip_ratio(audio: &[f32], onset: f64) -> f64 {
 
 #[test]
 fn bow_changes_dip_and_slurs_do_not() {
-    let (mut change_ratios, mut slur_ratios) = (Vec::new(), Vec::new());
+    let (mut change_ratios, mut slur_ratios, mut portato_ratios) =
+        (Vec::new(), Vec::new(), Vec::new());
     for seed in 0..6 {
         let (t, audio) = render(seed);
         for w in t.notes.windows(2) {
@@ -59,6 +60,8 @@ fn bow_changes_dip_and_slurs_do_not() {
             let r = dip_ratio(&audio, note.onset_s);
             if note.bow_change {
                 change_ratios.push(r);
+            } else if note.midi == prev.midi {
+                portato_ratios.push(r);
             } else {
                 slur_ratios.push(r);
             }
@@ -77,6 +80,18 @@ fn bow_changes_dip_and_slurs_do_not() {
     let slur = median(&mut slur_ratios);
     println!("median dip ratio: bow changes {change:.2} ({n_change}), slurred changes {slur:.2} ({n_slur})");
     assert!(change < 0.5, "bow changes should dip: {change}");
+    // A repeated pitch under one bow (portato) dips too, or it would be a tie.
+    assert!(
+        portato_ratios.len() > 5,
+        "{} portato notes",
+        portato_ratios.len()
+    );
+    let portato = median(&mut portato_ratios);
+    println!(
+        "median dip ratio: portato {portato:.2} ({})",
+        portato_ratios.len()
+    );
+    assert!(portato < 0.5, "portato notes should dip: {portato}");
     assert!(slur > 0.75, "slurred changes should not dip: {slur}");
     // Nearly every slurred change stays above every typical bow change.
     let slur_dips = slur_ratios.iter().filter(|r| **r < 0.5).count();

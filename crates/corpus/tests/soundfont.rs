@@ -72,6 +72,11 @@ fn bow_change_reattacks_and_slur_glides() {
     println!("dip ratio: slurred {d_slur:.2}, bow change {d_change:.2}");
     assert!(d_slur > 0.7, "{d_slur}");
     assert!(d_change < 0.5, "{d_change}");
+    // A4 twice under one bow: portato, the level dips at the second onset (no tie).
+    let portato = render(vec![note(0.2, 1.0, 57, true), note(1.0, 1.8, 57, false)]);
+    let d_portato = dip(&portato);
+    println!("dip ratio: portato {d_portato:.2}");
+    assert!(d_portato < 0.6, "{d_portato}");
     // Both reach the right pitches (within 3 %).
     for a in [&slurred, &changed] {
         let p1 = pitch_hz(a, 0.5, 0.8);

@@ -6,13 +6,16 @@
 //! * a **bow change** ends the old stroke with a fast decay and starts the new one with an
 //!   attack transient and a noise burst, so the amplitude dips and re-attacks;
 //! * a **slurred** note change keeps one continuous stroke: the pitch glides to the new
-//!   note in ~25 ms under an unbroken amplitude envelope — no attack, no burst;
+//!   note in ~25 ms under an unbroken amplitude envelope — no attack, no burst; a slurred
+//!   note on the *same* pitch is played portato (the level dips and swells,
+//!   [`portato_gain`](crate::render::portato_gain)), as a tie would otherwise be inaudible;
 //! * **vibrato** (5–7 Hz, 10–25 cents) fades in 0.12–0.3 s after a stopped note's onset;
 //!   open strings have none;
 //! * **dynamics** set both the level and the brightness (spectral tilt), as bow pressure
 //!   and speed do.
 
 use crate::render::biquad::Biquad;
+use crate::render::portato::portato_gain;
 use crate::render::{RenderError, RenderSettings, Renderer};
 use crate::rng::Rng;
 use crate::timing::{TimedNote, Timeline};
@@ -218,7 +221,8 @@ impl BowedStringSynth {
             } else {
                 1.0
             };
-            let amp = smoothed_level * attack * release;
+            let portato = portato_gain(stroke.notes, note_idx, t);
+            let amp = smoothed_level * attack * release * portato;
             if amp < 1e-7 {
                 continue;
             }

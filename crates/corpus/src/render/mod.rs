@@ -2,11 +2,13 @@
 
 mod biquad;
 mod bowed;
+mod portato;
 mod sf2_writer;
 mod soundfont;
 
 pub use biquad::Biquad;
 pub use bowed::{BowedConfig, BowedStringSynth};
+pub use portato::{is_portato, portato_gain, PORTATO_FALL_S, PORTATO_FLOOR, PORTATO_RISE_S};
 pub use sf2_writer::tiny_violin_sf2;
 pub use soundfont::SoundFontRenderer;
 

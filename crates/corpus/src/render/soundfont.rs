@@ -4,12 +4,15 @@
 //! set by RPN 0) glides to the next pitch, so no new attack is heard. A slur interval beyond
 //! an octave starts the new key before releasing the old one (legato overlap). Every bow
 //! change releases the key and strikes a new one (a re-attack). Vibrato is pitch bend too.
+//! A slurred note on the same pitch is played portato: the expression controller (CC 11)
+//! dips and swells around its onset ([`portato_gain`]).
 
 use std::path::Path;
 use std::sync::Arc;
 
 use rustysynth::{SoundFont, Synthesizer, SynthesizerSettings};
 
+use crate::render::portato::portato_gain;
 use crate::render::{RenderError, RenderSettings, Renderer};
 use crate::rng::Rng;
 use crate::timing::{TimedNote, Timeline};
@@ -73,6 +76,11 @@ impl Synth {
     }
 }
 
+/// Expression (CC 11) of a note's dynamic.
+fn expression_of(n: &TimedNote) -> i32 {
+    (40.0 + 87.0 * f64::from(n.dynamic)) as i32
+}
+
 fn velocity(n: &TimedNote) -> i32 {
     let v = 35.0 + 85.0 * f64::from(n.dynamic) + if n.accent { 10.0 } else { 0.0 };
     v.clamp(1.0, 127.0) as i32
@@ -120,6 +128,8 @@ impl Renderer for SoundFontRenderer {
         let mut out = Vec::with_capacity(n_samples);
         let (mut left, mut right) = (vec![0.0f32; BLOCK], vec![0.0f32; BLOCK]);
         let mut next = 0usize; // next note to start
+                               // CC 11 of the latest note, and the value last sent (they differ during a portato).
+        let (mut expression, mut sent_expression) = (0i32, -1i32);
         let mut held: Option<(i32, usize)> = None; // (key, note index)
         let notes = &timeline.notes;
         let mut pos = 0usize;
@@ -153,8 +163,24 @@ impl Renderer for SoundFontRenderer {
                         held = Some((key, next));
                     }
                 }
-                synth.cc(11, (40.0 + 87.0 * f64::from(n.dynamic)) as i32);
+                expression = expression_of(n);
+                synth.cc(11, expression);
+                sent_expression = expression;
                 next += 1;
+            }
+            // Portato: the expression dips around a repeated pitch under one bow.
+            if let Some((_, idx)) = held {
+                let gain = portato_gain(notes, idx, t);
+                // The synthesizer's channel gain is the square of the expression (GM).
+                let value = if gain < 1.0 {
+                    (f64::from(expression) * gain.sqrt()).round() as i32
+                } else {
+                    expression
+                };
+                if value != sent_expression {
+                    synth.cc(11, value);
+                    sent_expression = value;
+                }
             }
             // Pitch: slur glide towards the sounding note, vibrato, tuning.
             if let Some((key, idx)) = held {
