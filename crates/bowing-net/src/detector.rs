@@ -161,13 +161,16 @@ impl BowChangeDetector {
         Ok(self.decoder.pick(&self.frame_probabilities(mel_db)?))
     }
 
-    /// Bow-change times in seconds of a recording.
+    /// Bow-change times in seconds of a recording, between frames where the probabilities
+    /// say so ([`Decoder::pick_fractional`]).
     pub fn detect_audio(&self, audio: &dsp_mel::Audio) -> Result<Vec<f64>> {
         let mel = bowing_mel(audio)?;
+        let probs = self.frame_probabilities(mel.view())?;
         Ok(self
-            .detect_frames(mel.view())?
+            .decoder
+            .pick_fractional(&probs)
             .into_iter()
-            .map(|f| f as f64 / FPS)
+            .map(|f| f / FPS)
             .collect())
     }
 }
