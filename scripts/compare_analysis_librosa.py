@@ -111,9 +111,11 @@ def corpus_reference(item_dir, tuning_cents, n_frames):
 
 
 def audible_onsets(item_dir):
-    """The labelled onsets minus those no renderer articulates: a note slurred (no bow change)
-    from a note of the same pitch that it touches is rendered as one unbroken tone (same key,
-    same stroke, no glide), so nothing in the audio marks its onset."""
+    """The labelled onsets minus same-pitch slurred ones: a note slurred (no bow change) from a
+    note of the same pitch that it touches. Corpora written before 2026-11-21 rendered it as
+    one unbroken tone (same key, same stroke, no glide), so nothing in their audio marks its
+    onset; newer corpora play it portato (a dip and swell), and there this figure only leaves
+    out the portato notes."""
     perf = json.loads((item_dir / "performance.json").read_text())
     notes, bows = perf["notes"], np.asarray(perf["bow_changes_s"], dtype=float)
     out = []
@@ -187,8 +189,9 @@ def print_means(title, rows):
         print(f"{name:22} {m[0]:14.4f} {m[1]:12.3f} {m[2]:11.3f} {m[3]:13.3f} {m[4]:8.3f} {down} {m[6]:18.3f}")
 
 
-AUDIBLE_NOTE = ("¹ onset F against the labelled onsets minus same-pitch slurred ones (not articulated "
-                "by either renderer; see audible_onsets); the main figure keeps every labelled onset.")
+AUDIBLE_NOTE = ("¹ onset F against the labelled onsets minus same-pitch slurred ones (inaudible in "
+                "corpora written before the portato rendering of 2026-11-21; see audible_onsets); "
+                "the main figure keeps every labelled onset.")
 
 
 def corpus_mode(args):

@@ -43,16 +43,18 @@ pub const MIN_DURATION_S: f64 = 1.0;
 
 /// A bow change splits a note only when both parts last at least this long (seconds): near a
 /// note's ends it is most likely that note's own onset (or the next one's), seen by both
-/// detectors a frame or two apart. Chosen on the corpus's validation and training splits
-/// (0.05–0.3 s tried; note-onset F1 +0.011 on both at 0.2 s).
-pub const BOW_CHANGE_SPLIT_MIN_PART_S: f64 = 0.2;
+/// detectors a frame or two apart. Chosen with [`BOW_CHANGE_ONSET_LEAD_S`] on the training and
+/// validation splits of corpus-mix (151 items; 0.06–0.2 s × 0.03–0.08 s), with the shipped
+/// bowing-net weights (trained on another corpus): note-onset F1 0.883 at the former
+/// 0.2 s / 0.03 s, 0.916 at 0.06 s / 0.06 s; on 480 held-out items (seed 4242) 0.884 → 0.917.
+pub const BOW_CHANGE_SPLIT_MIN_PART_S: f64 = 0.06;
 
 /// A note whose onset comes less than this long (seconds) after a bow change starts at the
-/// bow change: the pitch path confirms a new pitch only after a few frames of it. Chosen on
-/// a 480-item corpus (`corpus --minutes 240 --seed 777 --renderer mix`; 0.03 and 0.05 s
-/// tried): note-onset F1 +0.006 at 0.03 s, the built-in renderer's unchanged, and the same
-/// on a second 480-item corpus (seed 4242). At 0.05 s the built-in renderer lost 0.006.
-pub const BOW_CHANGE_ONSET_LEAD_S: f64 = 0.03;
+/// bow change: the pitch path confirms a new pitch only after a few frames of it, and a
+/// SoundFont's new bow is heard a median 34 ms after it starts. Chosen with
+/// [`BOW_CHANGE_SPLIT_MIN_PART_S`]; longer leads trade the built-in renderer's onsets for the
+/// SoundFont's (0.08 s: built-in −0.011, SoundFont +0.004 on the tuning set).
+pub const BOW_CHANGE_ONSET_LEAD_S: f64 = 0.06;
 
 /// Seconds spent in each stage of an analysis (summed over chunks for long files).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
