@@ -1,5 +1,6 @@
 //! The built-in renderer's audio agrees with the labels: bow changes leave an acoustic trace
-//! (amplitude dip, new attack), slurred changes do not (but a repeated pitch does), onsets are on time, rests are silent.
+//! (amplitude dip, new attack), slurred changes do not (but a repeated pitch does), onsets are
+//! on time, rests are silent.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use corpus::etude::{generate, EtudeConfig};

@@ -127,9 +127,9 @@ impl Renderer for SoundFontRenderer {
         let n_samples = (timeline.duration_s * f64::from(sr)).ceil() as usize;
         let mut out = Vec::with_capacity(n_samples);
         let (mut left, mut right) = (vec![0.0f32; BLOCK], vec![0.0f32; BLOCK]);
-        let mut next = 0usize; // next note to start
-                               // CC 11 of the latest note, and the value last sent (they differ during a portato).
+        // CC 11 of the latest note, and the value last sent (they differ during a portato).
         let (mut expression, mut sent_expression) = (0i32, -1i32);
+        let mut next = 0usize; // next note to start
         let mut held: Option<(i32, usize)> = None; // (key, note index)
         let notes = &timeline.notes;
         let mut pos = 0usize;
