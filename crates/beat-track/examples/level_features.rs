@@ -45,7 +45,6 @@ fn main() {
         let notes = segment_notes(&track, samples, rate, &NoteConfig::default()).expect("notes");
         // LEVEL_WITHOUT_NOTES=1: what beat-track does on its own (onsets stand in for notes).
         let notes = (std::env::var_os("LEVEL_WITHOUT_NOTES").is_none()).then_some(&notes[..]);
-        let candidates = beats.level_candidates(samples, notes).expect("candidates");
         // BOW_CHANGES_DIR=dir: bow changes from dir/<i>.json (an `analyze` output's
         // `bow_changes_s`) as metre evidence.
         let bows: Option<Vec<f64>> = std::env::var_os("BOW_CHANGES_DIR").map(|dir| {
@@ -64,6 +63,9 @@ fn main() {
             notes,
             bow_changes_s: bows.as_deref(),
         };
+        let candidates = beats
+            .level_candidates_with(samples, evidence)
+            .expect("candidates");
         let chosen = beats.track_with(samples, evidence).expect("beats");
         // The metre step's input: the winning candidate's beats and their bar features.
         let level = candidates

@@ -13,11 +13,14 @@
 //!   [`LevelConfig::tolerance_s`]: a beat is where notes start;
 //! * **onset coverage** — the same with the detected spectral-flux onsets;
 //! * **note length** — the mean of `log₂` of the length, in beats, of the note starting on
-//!   each beat (−3 where none starts): long notes begin on beats, not between them.
+//!   each beat (−3 where none starts): long notes begin on beats, not between them;
+//! * **bow coverage** — the share of beats with a bow change (from `bowing-net`) within
+//!   the tolerance: bow strokes, and so slurred groups, tend to start on beats.
 //!
 //! The candidate with the highest weighted sum wins. The weights ([`LevelWeights::default`])
 //! were fitted by `scripts/fit_beat_level.py` on a 480-item synthetic corpus (see the crate
-//! README); without notes, the detected onsets stand in for them.
+//! README). Without notes, the detected onsets stand in for them; without bow changes, the
+//! detected onsets stand in for those (every note a new bow, as in détaché).
 
 use serde::{Deserialize, Serialize};
 
@@ -36,18 +39,23 @@ pub struct LevelWeights {
     pub onset_coverage: f64,
     /// Weight of the mean log₂ length, in beats, of the notes starting on beats.
     pub note_length: f64,
+    /// Weight of the share of beats on a bow change.
+    #[serde(default)]
+    pub bow_coverage: f64,
 }
 
 impl Default for LevelWeights {
-    /// Fitted by `scripts/fit_beat_level.py --splits train,val,test` on a 480-item corpus
-    /// (`violin-skeleton corpus --minutes 240 --seed 777 --renderer mix`).
+    /// Fitted by `scripts/fit_beat_level.py --splits train,val,test --bow-changes DIR` on a
+    /// 480-item corpus (`violin-skeleton corpus --minutes 240 --seed 777 --renderer mix`),
+    /// with `DIR` holding `violin-skeleton analyze` outputs of its items.
     fn default() -> Self {
         Self {
-            tempogram: 4.01,
-            prior: 2.08,
-            note_coverage: 3.04,
-            onset_coverage: 4.17,
-            note_length: 5.74,
+            tempogram: 4.18,
+            prior: 2.03,
+            note_coverage: 2.06,
+            onset_coverage: 3.26,
+            note_length: 5.75,
+            bow_coverage: 6.20,
         }
     }
 }
@@ -90,6 +98,9 @@ pub struct LevelFeatures {
     pub onset_coverage: f64,
     /// Mean log₂ length in beats of the note starting on each beat (−3 where none does).
     pub note_length: f64,
+    /// Share of beats with a bow change nearby.
+    #[serde(default)]
+    pub bow_coverage: f64,
 }
 
 /// One tracked tempogram peak: its tempo, beats, features and score.
@@ -113,6 +124,7 @@ impl LevelFeatures {
             + w.note_coverage * self.note_coverage
             + w.onset_coverage * self.onset_coverage
             + w.note_length * self.note_length
+            + w.bow_coverage * self.bow_coverage
     }
 }
 
@@ -178,18 +190,22 @@ fn nearest(events: &[f64], t: f64) -> Option<usize> {
     }
 }
 
-/// The features of `beats_s` (at least two beats) against `notes` (sorted by onset) and the
-/// sorted detected `onsets_s`. Without notes, pass the onsets as notes lasting until the
-/// next onset.
+/// The features of `beats_s` (at least two beats) against `notes` (sorted by onset), the
+/// sorted detected `onsets_s` and the sorted `bow_changes_s`. Without notes, pass the onsets
+/// as notes lasting until the next onset; without bow changes, pass the onsets.
 pub fn level_features(
     beats_s: &[f64],
-    tempogram_value: f64,
-    bpm: f64,
-    start_bpm: f64,
+    tempo: TempogramPeak,
     notes: &[Note],
     onsets_s: &[f64],
+    bow_changes_s: &[f64],
     tolerance_s: f64,
 ) -> LevelFeatures {
+    let TempogramPeak {
+        value: tempogram_value,
+        bpm,
+        start_bpm,
+    } = tempo;
     let ibi = median_gap(beats_s).unwrap_or(60.0 / bpm);
     let note_onsets: Vec<f64> = notes.iter().map(|n| n.onset_s).collect();
     let note_length = if beats_s.is_empty() {
@@ -214,7 +230,19 @@ pub fn level_features(
         note_coverage: coverage(beats_s, &note_onsets, tolerance_s),
         onset_coverage: coverage(beats_s, onsets_s, tolerance_s),
         note_length,
+        bow_coverage: coverage(beats_s, bow_changes_s, tolerance_s),
     }
+}
+
+/// A candidate's tempogram peak, for [`level_features`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TempogramPeak {
+    /// The mean tempogram at the peak's lag.
+    pub value: f64,
+    /// The peak's tempo in bpm.
+    pub bpm: f64,
+    /// The centre of the tempo prior in bpm.
+    pub start_bpm: f64,
 }
 
 /// Notes standing in for missing `pitch-track` notes: each onset lasts until the next one
@@ -256,13 +284,21 @@ mod tests {
             })
             .collect();
         let beats: Vec<f64> = (0..8).map(|i| 0.5 * i as f64 + 0.02).collect();
-        let f = level_features(&beats, 1.0, 120.0, 120.0, &notes, &[], 0.07);
+        let peak = |bpm| TempogramPeak {
+            value: 1.0,
+            bpm,
+            start_bpm: 120.0,
+        };
+        let bows = [0.0, 2.0];
+        let f = level_features(&beats, peak(120.0), &notes, &[], &bows, 0.07);
         assert_eq!(f.note_coverage, 1.0);
         assert_eq!(f.onset_coverage, 0.0);
+        assert_eq!(f.bow_coverage, 0.25);
         assert!(f.note_length.abs() < 1e-12 && f.prior == 0.0 && f.ln_tempogram == 0.0);
         // Twice as fast: half the beats fall between notes, the notes last two beats.
         let fast: Vec<f64> = (0..16).map(|i| 0.25 * i as f64).collect();
-        let g = level_features(&fast, 1.0, 240.0, 120.0, &notes, &[], 0.07);
+        let g = level_features(&fast, peak(240.0), &notes, &[], &bows, 0.07);
+        assert_eq!(g.bow_coverage, 0.125);
         assert_eq!(g.note_coverage, 0.5);
         assert!((g.note_length - (0.5 * 1.0 + 0.5 * -3.0)).abs() < 1e-12);
         assert!(f.score(&LevelWeights::default()) > g.score(&LevelWeights::default()));

@@ -45,7 +45,7 @@ mod tracker;
 pub use bar_features::{BarEvidence, BeatFeatures};
 pub use dp::track_beats;
 pub use error::{BeatError, Result};
-pub use level::{LevelCandidate, LevelConfig, LevelFeatures, LevelWeights};
+pub use level::{LevelCandidate, LevelConfig, LevelFeatures, LevelWeights, TempogramPeak};
 pub use meter::{estimate_meter, Meter, MeterConfig, MeterEstimate};
 pub use onset::{Aggregate, OnsetConfig, OnsetEnvelope, OnsetStrength};
 pub use peaks::{onset_detect, peak_pick, PeakPick};

@@ -6,10 +6,10 @@ use serde::{Deserialize, Serialize};
 use pitch_track::Note;
 
 use crate::bar_features::BarEvidence;
-use crate::dp::track_beats;
+use crate::dp::track_beats_with;
 use crate::error::{BeatError, Result};
 use crate::level::{
-    level_features, notes_from_onsets, tempogram_peaks, LevelCandidate, LevelConfig,
+    level_features, notes_from_onsets, tempogram_peaks, LevelCandidate, LevelConfig, TempogramPeak,
 };
 use crate::meter::{estimate_meter, Meter, MeterConfig};
 use crate::onset::{Aggregate, OnsetConfig, OnsetStrength};
@@ -33,7 +33,8 @@ pub struct BeatConfig {
     pub tempo: TempoConfig,
     /// How strictly beats keep the period.
     pub tightness: f64,
-    /// Drop weak leading and trailing beats.
+    /// librosa's trimming: drop leading and trailing beats whose onset strength is below
+    /// half the RMS of the beats' (off by default; see [`BeatConfig::keep_to_notes`]).
     pub trim: bool,
     /// Metre detection.
     pub meter: MeterConfig,
@@ -45,6 +46,29 @@ pub struct BeatConfig {
     /// this much earlier than the frames they were tracked on (0 = librosa's frame times).
     #[serde(default = "default_latency_s")]
     pub latency_s: f64,
+    /// Weight of note-start salience in the dynamic programme, in standard deviations of
+    /// the onset strength per unit of salience (0 = onset strength alone, as librosa). A
+    /// note adds `clamp(log₂(length in beats) + 2, 0, 3)` at its onset frame: nothing for
+    /// a sixteenth, 2 for a quarter, 3 for a half note or longer. In a run of even notes
+    /// every onset is as strong as the next and the onset strength alone cannot tell the
+    /// beat from the off-beat; long notes tend to start on beats.
+    #[serde(default = "default_note_salience")]
+    pub note_salience: f64,
+    /// Keep beats only where the music sounds: from the first note onset (less the beat
+    /// tolerance) until half a beat before the last note ends. Used instead of librosa's
+    /// trimming of weak beats ([`BeatConfig::trim`]), which also drops the beats of quiet
+    /// openings and endings.
+    #[serde(default = "default_keep_to_notes")]
+    pub keep_to_notes: bool,
+}
+
+/// Chosen on corpus-fit among weights 0.5–4 and caps of 3–6 (see the crate README).
+fn default_note_salience() -> f64 {
+    1.0
+}
+
+fn default_keep_to_notes() -> bool {
+    true
 }
 
 /// The median delay of tracked beats behind the labelled ones on the corpus's training
@@ -60,10 +84,12 @@ impl Default for BeatConfig {
             beat_aggregate: Aggregate::Mean,
             tempo: TempoConfig::default(),
             tightness: 100.0,
-            trim: true,
+            trim: false,
             meter: MeterConfig::default(),
             level: LevelConfig::default(),
             latency_s: default_latency_s(),
+            note_salience: default_note_salience(),
+            keep_to_notes: default_keep_to_notes(),
         }
     }
 }
@@ -97,6 +123,12 @@ impl BeatTracker {
             return Err(BeatError::InvalidConfig(format!(
                 "tightness must be > 0, got {}",
                 cfg.tightness
+            )));
+        }
+        if !(cfg.note_salience.is_finite() && cfg.note_salience >= 0.0) {
+            return Err(BeatError::InvalidConfig(format!(
+                "note_salience must be ≥ 0, got {}",
+                cfg.note_salience
             )));
         }
         if !(cfg.latency_s.is_finite() && cfg.latency_s >= 0.0) {
@@ -133,10 +165,10 @@ impl BeatTracker {
         self.track_with(samples, BarEvidence::notes(notes))
     }
 
-    /// [`BeatTracker::track`] with bow changes as well as notes: a beat with a bow change
-    /// is more likely a bar line ([`MeterConfig::bow_weight`]).
+    /// [`BeatTracker::track`] with bow changes as well as notes: a level whose beats fall on
+    /// bow changes scores higher ([`crate::LevelWeights::bow_coverage`]), and a beat with a
+    /// bow change is more likely a bar line ([`MeterConfig::bow_weight`]).
     pub fn track_with(&self, samples: &[f32], evidence: BarEvidence<'_>) -> Result<BeatAnalysis> {
-        let notes = evidence.notes;
         let env = self.onset.compute(samples)?;
         let frame_s = env.hop_s;
         let onsets_s = self.onsets_s(&env.mean, frame_s);
@@ -154,7 +186,8 @@ impl BeatTracker {
         if beat_env.iter().all(|&v| v == 0.0) {
             return Ok(empty(onsets_s));
         }
-        let Some((bpm, beats)) = self.tempo_and_beats(beat_env, frame_s, &onsets_s, notes) else {
+        let Some((bpm, beats)) = self.tempo_and_beats(beat_env, frame_s, &onsets_s, evidence)
+        else {
             return Ok(empty(onsets_s));
         };
         let meter = estimate_meter(&beats, &env, evidence, bpm, &self.cfg.meter);
@@ -175,11 +208,21 @@ impl BeatTracker {
         samples: &[f32],
         notes: Option<&[Note]>,
     ) -> Result<Vec<LevelCandidate>> {
+        self.level_candidates_with(samples, BarEvidence::notes(notes))
+    }
+
+    /// [`BeatTracker::level_candidates`] with bow changes as well as notes, as
+    /// [`BeatTracker::track_with`] sees them.
+    pub fn level_candidates_with(
+        &self,
+        samples: &[f32],
+        evidence: BarEvidence<'_>,
+    ) -> Result<Vec<LevelCandidate>> {
         let env = self.onset.compute(samples)?;
         let onsets_s = self.onsets_s(&env.mean, env.hop_s);
         let beat_env = env.get(self.cfg.beat_aggregate);
         Ok(self
-            .candidates(beat_env, env.hop_s, &onsets_s, notes)
+            .candidates(beat_env, env.hop_s, &onsets_s, evidence)
             .map(|(c, _)| c)
             .unwrap_or_default())
     }
@@ -195,10 +238,15 @@ impl BeatTracker {
         .collect()
     }
 
-    /// Beat frames at `bpm` as seconds, latency removed.
-    fn beats_at(&self, beat_env: &[f32], frame_s: f64, bpm: f64) -> Vec<f64> {
-        track_beats(
+    /// Beat frames at `bpm` as seconds, latency removed, tracked on the onset strength and
+    /// the salience of `notes` (see [`BeatConfig::note_salience`]).
+    fn beats_at(&self, beat_env: &[f32], frame_s: f64, bpm: f64, notes: &[Note]) -> Vec<f64> {
+        let period_s = 60.0 / bpm;
+        let salience = (self.cfg.note_salience > 0.0 && !notes.is_empty())
+            .then(|| note_salience(notes, beat_env.len(), frame_s, period_s, &self.cfg));
+        let beats: Vec<f64> = track_beats_with(
             beat_env,
+            salience.as_deref(),
             bpm,
             1.0 / frame_s,
             self.cfg.tightness,
@@ -206,7 +254,17 @@ impl BeatTracker {
         )
         .into_iter()
         .map(|f| (f as f64 * frame_s - self.cfg.latency_s).max(0.0))
-        .collect()
+        .collect();
+        match sounding_span(notes) {
+            Some((start_s, end_s)) if self.cfg.keep_to_notes => {
+                let (from, to) = (start_s - self.cfg.level.tolerance_s, end_s - 0.5 * period_s);
+                beats
+                    .into_iter()
+                    .filter(|&b| b >= from && b <= to)
+                    .collect()
+            }
+            _ => beats,
+        }
     }
 
     /// The candidates with four beats or more, and librosa's tempo on the same tempogram.
@@ -215,7 +273,7 @@ impl BeatTracker {
         beat_env: &[f32],
         frame_s: f64,
         onsets_s: &[f64],
-        notes: Option<&[Note]>,
+        evidence: BarEvidence<'_>,
     ) -> Option<(Vec<LevelCandidate>, Option<f64>)> {
         let (oc, tc, lc) = (&self.cfg.onset, &self.cfg.tempo, &self.cfg.level);
         if beat_env.iter().all(|&v| v == 0.0) {
@@ -225,28 +283,33 @@ impl BeatTracker {
         let tg = mean_tempogram_strided(beat_env, win_length, tc.frame_stride);
         let onsets: Vec<f64> = onsets_s.iter().map(|t| t - self.cfg.latency_s).collect();
         let stand_in;
-        let notes = match notes.filter(|n| !n.is_empty()) {
+        let notes = match evidence.notes.filter(|n| !n.is_empty()) {
             Some(n) => n,
             None => {
                 stand_in = notes_from_onsets(&onsets);
                 &stand_in
             }
         };
+        let bow_changes_s = evidence.bow_changes_s.unwrap_or(&onsets);
         let bpm_of = |lag: usize| bpm_of_lag(lag, oc.sample_rate_hz, oc.hop_length);
         let candidates = tempogram_peaks(&tg, bpm_of, lc.min_bpm, tc.max_tempo_bpm, lc.candidates)
             // Each candidate's dynamic programme is independent: one per core.
             .into_par_iter()
             .filter_map(|lag| {
                 let bpm = bpm_of(lag);
-                let beats_s = self.beats_at(beat_env, frame_s, bpm);
+                let beats_s = self.beats_at(beat_env, frame_s, bpm, notes);
                 (beats_s.len() >= 4).then(|| {
+                    let peak = TempogramPeak {
+                        value: tg[lag],
+                        bpm,
+                        start_bpm: tc.start_bpm,
+                    };
                     let features = level_features(
                         &beats_s,
-                        tg[lag],
-                        bpm,
-                        tc.start_bpm,
+                        peak,
                         notes,
                         &onsets,
+                        bow_changes_s,
                         lc.tolerance_s,
                     );
                     LevelCandidate {
@@ -269,15 +332,106 @@ impl BeatTracker {
         beat_env: &[f32],
         frame_s: f64,
         onsets_s: &[f64],
-        notes: Option<&[Note]>,
+        evidence: BarEvidence<'_>,
     ) -> Option<(f64, Vec<f64>)> {
-        let (candidates, librosa) = self.candidates(beat_env, frame_s, onsets_s, notes)?;
+        let (candidates, librosa) = self.candidates(beat_env, frame_s, onsets_s, evidence)?;
         match candidates
             .into_iter()
             .reduce(|best, c| if c.score > best.score { c } else { best })
         {
             Some(best) => Some((best.tempo_bpm, best.beats_s)),
-            None => librosa.map(|bpm| (bpm, self.beats_at(beat_env, frame_s, bpm))),
+            None => librosa.map(|bpm| (bpm, self.beats_at(beat_env, frame_s, bpm, &[]))),
+        }
+    }
+}
+
+/// The salience of `notes` per onset-strength frame, weighted (see
+/// [`BeatConfig::note_salience`]); a note counts at the frame where its onset-strength peak
+/// comes, [`BeatConfig::latency_s`] after its onset.
+fn note_salience(
+    notes: &[Note],
+    frames: usize,
+    frame_s: f64,
+    period_s: f64,
+    cfg: &BeatConfig,
+) -> Vec<f64> {
+    let mut salience = vec![0.0; frames];
+    for n in notes {
+        let beats = (n.offset_s - n.onset_s) / period_s;
+        let s = (beats.max(1e-3).log2() + 2.0).clamp(0.0, 3.0);
+        let frame = ((n.onset_s + cfg.latency_s) / frame_s).round();
+        if frame >= 0.0 && frame < frames as f64 {
+            salience[frame as usize] += cfg.note_salience * s;
+        }
+    }
+    salience
+}
+
+/// From the first note onset to the last note offset, in seconds.
+fn sounding_span(notes: &[Note]) -> Option<(f64, f64)> {
+    let start = notes.iter().map(|n| n.onset_s).min_by(f64::total_cmp)?;
+    let end = notes.iter().map(|n| n.offset_s).max_by(f64::total_cmp)?;
+    Some((start, end))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn note(onset_s: f64, offset_s: f64) -> Note {
+        Note {
+            onset_s,
+            offset_s,
+            midi: 69,
+        }
+    }
+
+    #[test]
+    fn long_notes_are_more_salient_than_short_ones() {
+        let cfg = BeatConfig::default();
+        let frame_s = 0.01;
+        // At 60 bpm: a sixteenth, an eighth, a quarter, a whole note.
+        let notes = [
+            note(0.0, 0.25),
+            note(1.0, 1.5),
+            note(2.0, 3.0),
+            note(3.0, 7.0),
+        ];
+        let s = note_salience(&notes, 800, frame_s, 1.0, &cfg);
+        let at = |t: f64| s[((t + cfg.latency_s) / frame_s).round() as usize];
+        let w = cfg.note_salience;
+        assert_eq!(
+            [at(0.0), at(1.0), at(2.0), at(3.0)],
+            [0.0, w, 2.0 * w, 3.0 * w]
+        );
+        assert_eq!(s.iter().filter(|&&v| v != 0.0).count(), 3);
+        // Onsets outside the envelope or not finite are skipped, not a panic.
+        let odd = [note(-1.0, 0.0), note(f64::NAN, 1.0), note(100.0, 101.0)];
+        assert!(note_salience(&odd, 800, frame_s, 1.0, &cfg)
+            .iter()
+            .all(|&v| v == 0.0));
+    }
+
+    #[test]
+    fn the_sounding_span_runs_from_the_first_onset_to_the_last_offset() {
+        assert_eq!(
+            sounding_span(&[note(1.0, 2.0), note(0.5, 0.8), note(3.0, 3.5)]),
+            Some((0.5, 3.5))
+        );
+        assert_eq!(sounding_span(&[]), None);
+    }
+
+    #[test]
+    fn negative_or_nan_salience_is_rejected() {
+        for bad in [-1.0, f64::NAN, f64::INFINITY] {
+            let cfg = BeatConfig {
+                note_salience: bad,
+                ..BeatConfig::default()
+            };
+            assert!(matches!(
+                BeatTracker::new(cfg),
+                Err(BeatError::InvalidConfig(_))
+            ));
         }
     }
 }

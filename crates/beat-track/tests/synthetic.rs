@@ -210,3 +210,34 @@ fn the_same_input_gives_the_same_beats() {
     let b = tracker.track(&piece.samples, None).unwrap();
     assert_eq!(a, b);
 }
+
+#[test]
+fn bow_changes_on_the_beats_cover_the_labelled_level_only() {
+    let piece = render(&SynthConfig::varied(4, 20.0)).unwrap();
+    let tracker = BeatTracker::new(BeatConfig::default()).unwrap();
+    let evidence = beat_track::BarEvidence {
+        notes: None,
+        bow_changes_s: Some(&piece.beats_s),
+    };
+    let with_bows = tracker
+        .level_candidates_with(&piece.samples, evidence)
+        .unwrap();
+    let at = |ratio: f64| {
+        with_bows
+            .iter()
+            .find(|c| (c.tempo_bpm / piece.tempo_bpm / ratio - 1.0).abs() < 0.05)
+    };
+    let labelled = at(1.0).expect("a candidate at the labelled tempo");
+    assert!(
+        labelled.features.bow_coverage >= 0.9,
+        "{:?}",
+        labelled.features
+    );
+    if let Some(double) = at(2.0) {
+        assert!(double.features.bow_coverage <= 0.6, "{:?}", double.features);
+    }
+    // Without bow changes the detected onsets stand in for them.
+    for c in tracker.level_candidates(&piece.samples, None).unwrap() {
+        assert_eq!(c.features.bow_coverage, c.features.onset_coverage);
+    }
+}
