@@ -21,20 +21,14 @@ found on all selected items.
 The test split is never read unless `--splits` names it.
 """
 import argparse
-import json
 import math
-import os
 import pathlib
-import subprocess
-import tempfile
 
 import mir_eval
 import numpy as np
 
-from fitting import five_fold_cv
+from fitting import dump_level_features, five_fold_cv
 
-ROOT = pathlib.Path(__file__).resolve().parent.parent
-DUMP = ROOT / "target" / "release" / "examples" / "level_features"
 FEATURES = ["accent", "level", "space", "duration", "change", "rest", "bow"]
 # MeterConfig::default(): accent, level, space, duration, change, rest, bow weights.
 CURRENT = [1.0, 0.0, 0.0, 0.262, 0.0, 0.5, 1.0]
@@ -43,19 +37,7 @@ SUBDIVISION_PENALTY = 1.0
 
 
 def load(corpus, splits, bow_dir=None):
-    manifest = json.loads((corpus / "manifest.json").read_text())
-    chosen = [(i, it) for i, it in enumerate(manifest["items"]) if it["split"] in splits]
-    items = [it for _, it in chosen]
-    files = [str(corpus / it["dir"] / "audio.wav") for it in items]
-    with tempfile.TemporaryDirectory() as out, tempfile.TemporaryDirectory() as bows:
-        env = dict(os.environ)
-        if bow_dir is not None:
-            # level_features numbers its inputs 0, 1, …: link each item's analysis to its position.
-            for pos, (index, _) in enumerate(chosen):
-                os.symlink(bow_dir.resolve() / f"{index}.json", pathlib.Path(bows) / f"{pos}.json")
-            env["BOW_CHANGES_DIR"] = bows
-        subprocess.run([str(DUMP), out, *files], check=True, env=env)
-        dumps = [json.loads((pathlib.Path(out) / f"{i}.json").read_text()) for i in range(len(files))]
+    items, dumps = dump_level_features(corpus, splits, bow_dir)
     data = []
     for it, d in zip(items, dumps):
         if not d["level_beats_s"] or len(d["level_beats_s"]) < 4:
