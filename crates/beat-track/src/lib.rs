@@ -9,10 +9,12 @@
 //!   log-normal prior around 120 bpm), the mean taken over every fourth 8 s window
 //!   ([`TempoConfig::frame_stride`]; [`mean_tempogram`] keeps librosa's every window).
 //! * [`track_beats`] — `librosa.beat.beat_track`'s dynamic programme (Ellis 2007,
-//!   tightness 100), which follows tempo drift (rubato) beat by beat.
+//!   tightness 100), which follows tempo drift (rubato) beat by beat;
+//!   [`track_beats_with`] adds evidence to the onset strength ([`BeatTracker`] adds where
+//!   long notes start, [`BeatConfig::note_salience`]).
 //! * [`level`] — which tempo to track: every strong tempogram peak is tracked and the beat
-//!   sequences are scored on how notes and onsets fall on them (librosa takes the
-//!   prior-weighted maximum, which on violin music is often double or 3/2 the beat).
+//!   sequences are scored on how notes, onsets and bow changes fall on them (librosa takes
+//!   the prior-weighted maximum, which on violin music is often double or 3/2 the beat).
 //! * [`estimate_meter`] — beats per bar (2, 3, 4 or 6/8) and bar phase from accents and,
 //!   when given ([`BarEvidence`]), notes from `pitch-track` and bow changes (see [`meter`]).
 //! * [`BeatTracker`] — all of it in one call → [`BeatAnalysis`].
@@ -43,7 +45,7 @@ mod tempo;
 mod tracker;
 
 pub use bar_features::{BarEvidence, BeatFeatures};
-pub use dp::track_beats;
+pub use dp::{track_beats, track_beats_with};
 pub use error::{BeatError, Result};
 pub use level::{LevelCandidate, LevelConfig, LevelFeatures, LevelWeights, TempogramPeak};
 pub use meter::{estimate_meter, Meter, MeterConfig, MeterEstimate};
