@@ -109,6 +109,9 @@ pub struct BeatAnalysis {
     pub onsets_s: Vec<f64>,
 }
 
+/// A tempo in bpm and the beats tracked at it, in seconds.
+type TempoAndBeats = (f64, Vec<f64>);
+
 /// A planned beat tracker.
 #[derive(Debug)]
 pub struct BeatTracker {
@@ -267,14 +270,15 @@ impl BeatTracker {
         }
     }
 
-    /// The candidates with four beats or more, and librosa's tempo on the same tempogram.
+    /// The candidates with four beats or more and, when there are none, the beats at
+    /// librosa's tempo on the same tempogram (tracked and kept the same way).
     fn candidates(
         &self,
         beat_env: &[f32],
         frame_s: f64,
         onsets_s: &[f64],
         evidence: BarEvidence<'_>,
-    ) -> Option<(Vec<LevelCandidate>, Option<f64>)> {
+    ) -> Option<(Vec<LevelCandidate>, Option<TempoAndBeats>)> {
         let (oc, tc, lc) = (&self.cfg.onset, &self.cfg.tempo, &self.cfg.level);
         if beat_env.iter().all(|&v| v == 0.0) {
             return None;
@@ -320,9 +324,14 @@ impl BeatTracker {
                     }
                 })
             })
-            .collect();
-        let librosa = tempo_from_tempogram(&tg, oc.sample_rate_hz, oc.hop_length, tc);
-        Some((candidates, librosa))
+            .collect::<Vec<_>>();
+        let fallback = if candidates.is_empty() {
+            tempo_from_tempogram(&tg, oc.sample_rate_hz, oc.hop_length, tc)
+                .map(|bpm| (bpm, self.beats_at(beat_env, frame_s, bpm, notes)))
+        } else {
+            None
+        };
+        Some((candidates, fallback))
     }
 
     /// The tempo and beats: the best-scoring candidate, or librosa's tempo when no peak
@@ -333,14 +342,14 @@ impl BeatTracker {
         frame_s: f64,
         onsets_s: &[f64],
         evidence: BarEvidence<'_>,
-    ) -> Option<(f64, Vec<f64>)> {
-        let (candidates, librosa) = self.candidates(beat_env, frame_s, onsets_s, evidence)?;
+    ) -> Option<TempoAndBeats> {
+        let (candidates, fallback) = self.candidates(beat_env, frame_s, onsets_s, evidence)?;
         match candidates
             .into_iter()
             .reduce(|best, c| if c.score > best.score { c } else { best })
         {
             Some(best) => Some((best.tempo_bpm, best.beats_s)),
-            None => librosa.map(|bpm| (bpm, self.beats_at(beat_env, frame_s, bpm, &[]))),
+            None => fallback,
         }
     }
 }

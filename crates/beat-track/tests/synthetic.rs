@@ -241,3 +241,34 @@ fn bow_changes_on_the_beats_cover_the_labelled_level_only() {
         assert_eq!(c.features.bow_coverage, c.features.onset_coverage);
     }
 }
+
+#[test]
+fn no_beats_in_the_silence_around_the_music() {
+    let piece = render(&SynthConfig {
+        tempo_bpm: 100.0,
+        bars: 6,
+        ..SynthConfig::default()
+    })
+    .unwrap();
+    let pad = 8 * piece.sample_rate_hz as usize;
+    let mut samples = vec![0.0f32; pad];
+    samples.extend_from_slice(&piece.samples);
+    samples.extend(std::iter::repeat_n(0.0f32, pad));
+    let offset_s = pad as f64 / f64::from(piece.sample_rate_hz);
+    let music_end_s = offset_s + piece.samples.len() as f64 / f64::from(piece.sample_rate_hz);
+    let a = BeatTracker::new(BeatConfig::default())
+        .unwrap()
+        .track(&samples, None)
+        .unwrap();
+    assert!(a.beats_s.len() >= 8, "{:?}", a.beats_s);
+    assert!(
+        a.beats_s
+            .iter()
+            .all(|&b| b >= offset_s - 0.1 && b <= music_end_s),
+        "music {offset_s:.2}–{music_end_s:.2} s, beats {:?}",
+        a.beats_s
+    );
+    let shifted: Vec<f64> = piece.beats_s.iter().map(|b| b + offset_s).collect();
+    let f = beat_prf(&shifted, &a.beats_s, BEAT_TOLERANCE_S).f_measure;
+    assert!(f >= 0.8, "beat F {f}");
+}
