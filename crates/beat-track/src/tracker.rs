@@ -189,7 +189,9 @@ impl BeatTracker {
         if beat_env.iter().all(|&v| v == 0.0) {
             return Ok(empty(onsets_s));
         }
-        let Some((bpm, beats)) = self.tempo_and_beats(beat_env, frame_s, &onsets_s, evidence)
+        let Some((bpm, beats)) = self
+            .tempo_and_beats(beat_env, frame_s, &onsets_s, evidence)
+            .filter(|(_, beats)| !beats.is_empty())
         else {
             return Ok(empty(onsets_s));
         };

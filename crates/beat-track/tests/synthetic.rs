@@ -272,3 +272,18 @@ fn no_beats_in_the_silence_around_the_music() {
     let f = beat_prf(&shifted, &a.beats_s, BEAT_TOLERANCE_S).f_measure;
     assert!(f >= 0.8, "beat F {f}");
 }
+
+#[test]
+fn a_lone_blip_gives_a_tempo_only_with_beats() {
+    let sr = 22_050usize;
+    let mut samples = vec![0.0f32; 20 * sr];
+    for (i, s) in samples[19 * sr..19 * sr + 2000].iter_mut().enumerate() {
+        *s = 0.5 * (2.0 * std::f32::consts::PI * 660.0 * i as f32 / sr as f32).sin();
+    }
+    let a = BeatTracker::new(BeatConfig::default())
+        .unwrap()
+        .track(&samples, None)
+        .unwrap();
+    assert_eq!(a.beats_s.is_empty(), a.tempo_bpm == 0.0, "{a:?}");
+    assert!(a.beats_s.iter().all(|&b| b >= 18.9), "{:?}", a.beats_s);
+}
