@@ -378,10 +378,20 @@ fn note_salience(
     salience
 }
 
-/// From the first note onset to the last note offset, in seconds.
+/// From the first note onset to the last note offset, in seconds (non-finite times are
+/// ignored).
 fn sounding_span(notes: &[Note]) -> Option<(f64, f64)> {
-    let start = notes.iter().map(|n| n.onset_s).min_by(f64::total_cmp)?;
-    let end = notes.iter().map(|n| n.offset_s).max_by(f64::total_cmp)?;
+    let finite = |t: &f64| t.is_finite();
+    let start = notes
+        .iter()
+        .map(|n| n.onset_s)
+        .filter(finite)
+        .min_by(f64::total_cmp)?;
+    let end = notes
+        .iter()
+        .map(|n| n.offset_s)
+        .filter(finite)
+        .max_by(f64::total_cmp)?;
     Some((start, end))
 }
 
@@ -430,6 +440,11 @@ mod tests {
             Some((0.5, 3.5))
         );
         assert_eq!(sounding_span(&[]), None);
+        assert_eq!(
+            sounding_span(&[note(1.0, f64::NAN), note(f64::NAN, 2.0)]),
+            Some((1.0, 2.0))
+        );
+        assert_eq!(sounding_span(&[note(f64::NAN, f64::NAN)]), None);
     }
 
     #[test]
