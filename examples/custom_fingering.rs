@@ -4,7 +4,8 @@
 //! `cargo run --release --example custom_fingering`
 
 use violin_skeleton::fingering::{CostWeights, FingeringPlanner, GreedyPlanner, OptimalPlanner};
-use violin_skeleton::motion_synth::{synthesize, Performance, SynthConfig};
+use violin_skeleton::motion_synth::{synthesize, SynthConfig};
+use violin_skeleton::Performance;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     // A D major scale, D4 to D6, one note every 0.4 s.

@@ -17,7 +17,7 @@ pub enum Error {
     Fingering(#[from] fingering::FingeringError),
     /// Building the performance.
     #[error(transparent)]
-    Performance(#[from] motion_synth::PerformanceError),
+    Performance(#[from] performance::PerformanceError),
     /// Motion synthesis.
     #[error(transparent)]
     Synth(#[from] motion_synth::SynthError),
@@ -30,6 +30,12 @@ pub enum Error {
     /// MIDI input or corpus rendering.
     #[error(transparent)]
     Corpus(#[from] corpus::CorpusError),
+    /// A MIDI file that cannot be used.
+    #[error(transparent)]
+    Midi(#[from] performance::MidiError),
+    /// A performance or analysis file that cannot be read.
+    #[error(transparent)]
+    PerformanceFile(#[from] performance::PerformanceFileError),
     /// The recording has no notes to play.
     #[error("{0}: no notes were found; is this a solo violin recording (not silence or noise)?")]
     NoNotes(String),

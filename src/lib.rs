@@ -22,23 +22,23 @@
 //! # Ok::<(), violin_skeleton::Error>(())
 //! ```
 
-mod analysis;
 mod error;
 pub mod evaluate;
 mod long_audio;
 pub mod networks;
 mod pipeline;
 
-pub use analysis::{Analysis, AnalyzedNote, ArousalSeries, F0Track};
 pub use error::{Error, Result};
 pub use long_audio::Chunking;
+pub use performance::{Analysis, ArousalCurve, F0Track, Note};
 pub use pipeline::{
     Method, Pipeline, PipelineBuilder, PlannerKind, StageTimings, BOW_CHANGE_ONSET_LEAD_S,
     BOW_CHANGE_SPLIT_MIN_PART_S, MIN_DURATION_S,
 };
 
 pub use dsp_mel::{load_audio, load_audio_at, Audio, AudioReader};
-pub use motion_synth::{Camera, Performance, SynthConfig};
+pub use motion_synth::{Camera, SynthConfig};
+pub use performance::Performance;
 pub use skeleton::formats::MotionFormat;
 pub use skeleton::Motion;
 
@@ -50,6 +50,7 @@ pub use emotion_net;
 pub use fingering;
 pub use gru_baseline;
 pub use motion_synth;
+pub use performance;
 pub use pitch_track;
 pub use pose_preproc;
 pub use skeleton;

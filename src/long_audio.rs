@@ -12,9 +12,9 @@ use std::time::Instant;
 use dsp_mel::{Audio, AudioReader};
 use skeleton::Motion;
 
-use crate::analysis::{Analysis, AnalyzedNote, ArousalSeries, F0Track};
 use crate::error::{Error, Result};
 use crate::pipeline::{Method, Pipeline, StageTimings};
+use performance::{Analysis, ArousalCurve, F0Track, Note};
 
 /// How a long recording is cut.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -142,7 +142,7 @@ fn drop_crowded(events_s: &mut Vec<f64>, fraction: f64) {
 
 /// Notes of a chunk whose onset is in its core, in file time; a note that overlaps the one
 /// before it (the same note seen from both sides of a seam) is merged into it or trims it.
-fn take_notes(notes: &[AnalyzedNote], chunk: &Chunk, out: &mut Vec<AnalyzedNote>) {
+fn take_notes(notes: &[Note], chunk: &Chunk, out: &mut Vec<Note>) {
     for n in notes {
         let onset_s = n.onset_s + chunk.window_start_s;
         if onset_s < chunk.core_start_s || onset_s >= chunk.core_end_s {
@@ -206,7 +206,7 @@ impl Pipeline {
         };
         let (mut bow_changes_s, mut beats_s, mut downbeats_s) =
             (Vec::new(), Vec::new(), Vec::new());
-        let mut arousal = ArousalSeries {
+        let mut arousal = ArousalCurve {
             rate_hz: 2.0,
             values: Vec::new(),
         };
@@ -367,14 +367,7 @@ mod tests {
 
     #[test]
     fn a_note_seen_by_two_chunks_is_kept_once() {
-        let note = |on: f64, off: f64, midi: u8| AnalyzedNote {
-            onset_s: on,
-            offset_s: off,
-            midi,
-            string: None,
-            position: None,
-            finger: None,
-        };
+        let note = Note::new;
         let mut out = Vec::new();
         take_notes(
             &[note(1.0, 2.0, 60), note(9.9, 10.6, 62)],

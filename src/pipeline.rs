@@ -5,13 +5,13 @@ use std::time::Instant;
 
 use dsp_mel::{resample, Audio, DEFAULT_ANALYSIS_RATE_HZ};
 use fingering::{Fingering, FingeringPlanner, FingeringTable, GreedyPlanner, OptimalPlanner};
-use motion_synth::{synthesize, ArousalCurve, Camera, Performance, PlayedNote, SynthConfig};
+use motion_synth::{synthesize, Camera, SynthConfig};
+use performance::{Analysis, ArousalCurve, Note, Performance};
 use pitch_track::{
     segment_notes, split_notes_at, start_notes_at, NoteConfig, PitchConfig, PitchTracker,
 };
 use skeleton::Motion;
 
-use crate::analysis::{Analysis, AnalyzedNote, ArousalSeries, F0Track};
 use crate::error::{Error, Result};
 use crate::long_audio::Chunking;
 use crate::networks;
@@ -298,39 +298,21 @@ impl Pipeline {
         let notes = start_notes_at(&notes, &bow_changes_s, BOW_CHANGE_ONSET_LEAD_S);
         let midi: Vec<u8> = notes.iter().map(|n| n.midi).collect();
         let places = self.plan(&midi);
-        let analyzed_notes: Vec<AnalyzedNote> = notes
+        let analyzed_notes: Vec<Note> = notes
             .iter()
             .zip(places)
-            .map(|(n, f)| AnalyzedNote {
-                onset_s: n.onset_s,
-                offset_s: n.offset_s,
-                midi: n.midi,
-                string: f.map(|f| f.string.number()),
-                position: f.map(|f| f.position),
-                finger: f.map(|f| f.finger),
-            })
+            .map(|(n, f)| Note { fingering: f, ..*n })
             .collect();
         let analysis = Analysis {
             duration_s: audio.duration_s(),
             sample_rate: audio.sample_rate_hz(),
-            f0: F0Track {
-                hop_s: track.hop_s,
-                hz: track
-                    .f0_hz
-                    .iter()
-                    .map(|f| if f.is_finite() { *f } else { 0.0 })
-                    .collect(),
-                voiced_prob: track.voiced_prob.clone(),
-            },
+            f0: track.to_f0_track(),
             notes: analyzed_notes,
             bow_changes_s,
             beats_s: beats.beats_s,
             downbeats_s: beats.downbeats_s,
             tempo_bpm: beats.tempo_bpm,
-            arousal: ArousalSeries {
-                rate_hz: 2.0,
-                values: arousal,
-            },
+            arousal: ArousalCurve::deam(arousal),
         };
         Ok((analysis, timings))
     }
@@ -353,7 +335,7 @@ impl Pipeline {
         // Frame-centred analysis can put the last offset a hop past the end of the audio;
         // the performance covers exactly [0, duration].
         let duration_s = analysis.duration_s;
-        let notes: Vec<PlayedNote> = analysis
+        let notes: Vec<Note> = analysis
             .notes
             .iter()
             .zip(planned)
@@ -361,15 +343,12 @@ impl Pipeline {
             .map(|(n, planned)| {
                 let onset_s = n.onset_s.max(0.0);
                 let offset_s = n.offset_s.min(duration_s).max(onset_s);
-                let mut p = PlayedNote::new(onset_s, offset_s, n.midi);
-                let given = match (n.string, n.position, n.finger) {
-                    (Some(s), Some(pos), Some(fin)) => {
-                        fingering::ViolinString::from_number(s).map(|s| Fingering::new(s, pos, fin))
-                    }
-                    _ => None,
-                };
-                p.fingering = given.or(planned);
-                p
+                Note {
+                    onset_s,
+                    offset_s,
+                    midi: n.midi,
+                    fingering: n.fingering.or(planned),
+                }
             })
             .collect();
         let inside = |t: &f64| *t >= 0.0 && *t <= analysis.duration_s;
@@ -430,7 +409,7 @@ impl Pipeline {
     }
 
     /// Motion for a MIDI file: notes and timing from the file, bowing from slur and
-    /// articulation heuristics, arousal from velocity (see `corpus::midi`).
+    /// articulation heuristics, arousal from velocity (see `performance::midi`).
     pub fn generate_midi(&self, path: impl AsRef<Path>) -> Result<Motion> {
         let perf = self.performance_from_midi(path)?;
         Ok(synthesize(&perf, &self.synth)?)
@@ -438,11 +417,11 @@ impl Pipeline {
 
     /// The [`Performance`] of a MIDI file.
     pub fn performance_from_midi(&self, path: impl AsRef<Path>) -> Result<Performance> {
-        let mut timeline = corpus::midi::timeline_from_midi_file(path)?;
-        let midi: Vec<u8> = timeline.notes.iter().map(|n| n.midi).collect();
+        let mut timeline = performance::midi::timeline_from_midi_file(path)?;
+        let midi: Vec<u8> = timeline.notes.iter().map(|n| n.note.midi).collect();
         for (n, f) in timeline.notes.iter_mut().zip(self.plan(&midi)) {
-            n.fingering = f;
+            n.note.fingering = f;
         }
-        Ok(corpus::item::performance_of(&timeline)?)
+        Ok(timeline.to_performance()?)
     }
 }

@@ -22,8 +22,8 @@ fn two_minuets(dir: &std::path::Path) -> (std::path::PathBuf, Vec<f64>, f64) {
         .render(&timeline, &settings)
         .unwrap();
     let once_s = once.len() as f64 / 44_100.0;
-    let mut onsets: Vec<f64> = timeline.notes.iter().map(|n| n.onset_s).collect();
-    onsets.extend(timeline.notes.iter().map(|n| n.onset_s + once_s));
+    let mut onsets: Vec<f64> = timeline.notes.iter().map(|n| n.note.onset_s).collect();
+    onsets.extend(timeline.notes.iter().map(|n| n.note.onset_s + once_s));
     let path = dir.join("two_minuets.wav");
     let spec = hound::WavSpec {
         channels: 1,

@@ -26,7 +26,7 @@ fn demo_clip_gives_a_plausible_violinist() {
     let pipeline = Pipeline::default();
     let analysis = pipeline.analyze(&audio).unwrap();
 
-    let onsets: Vec<f64> = timeline.notes.iter().map(|n| n.onset_s).collect();
+    let onsets: Vec<f64> = timeline.notes.iter().map(|n| n.note.onset_s).collect();
     let found: Vec<f64> = analysis.notes.iter().map(|n| n.onset_s).collect();
     let notes = match_events_s(&found, &onsets, 0.05);
     let changes = match_events_s(&analysis.bow_changes_s, &timeline.bow_changes_s(), 0.1);

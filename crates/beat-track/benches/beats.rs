@@ -4,12 +4,12 @@
 //! `cargo bench -p beat-track --bench beats`
 #![allow(clippy::unwrap_used, clippy::expect_used, missing_docs)]
 
-use beat_track::synth::{render, SynthConfig};
 use beat_track::{
     estimate_meter, estimate_tempo, track_beats, BarEvidence, BeatConfig, BeatTracker, OnsetConfig,
     OnsetStrength,
 };
 use criterion::{criterion_group, criterion_main, Criterion};
+use pitch_track::synth::{render, SynthConfig};
 use pitch_track::{segment_notes, NoteConfig, PitchConfig, PitchTracker};
 
 fn bench(c: &mut Criterion) {

@@ -13,7 +13,7 @@
 
 use std::path::Path;
 
-use beat_track::synth::{render, SynthConfig, SynthPiece};
+use pitch_track::synth::{render, SynthConfig, SynthPiece};
 
 const HOP: usize = 256;
 

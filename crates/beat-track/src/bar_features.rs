@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use pitch_track::Note;
+use performance::Note;
 
 use crate::level::has_event_near;
 use crate::meter::MeterConfig;

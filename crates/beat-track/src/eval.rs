@@ -2,7 +2,7 @@
 //! matched one-to-one within ±70 ms; 0 when either list is empty). mir_eval's `evaluate`
 //! also drops beats before 5 s first ([`trim_beats`]); the F-measure itself does not.
 
-pub use pitch_track::eval::{match_events, Prf};
+pub use performance::{match_events, Prf};
 
 /// mir_eval's beat tolerance in seconds.
 pub const BEAT_TOLERANCE_S: f64 = 0.07;
@@ -15,8 +15,7 @@ pub const BEAT_TOLERANCE_S: f64 = 0.07;
 /// assert_eq!((s.precision, s.recall), (2.0 / 3.0, 0.5));
 /// ```
 pub fn beat_prf(reference_s: &[f64], estimated_s: &[f64], tolerance_s: f64) -> Prf {
-    let matched = match_events(reference_s, estimated_s, tolerance_s).len();
-    Prf::from_counts(matched, reference_s.len(), estimated_s.len())
+    performance::event_prf(reference_s, estimated_s, tolerance_s)
 }
 
 /// `mir_eval.beat.trim_beats`: the beats at or after `min_beat_time_s` (mir_eval uses 5 s).

@@ -24,7 +24,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use pitch_track::Note;
+use performance::Note;
 
 /// Weights of the beat-level features (see the module docs).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -252,11 +252,7 @@ pub fn notes_from_onsets(onsets_s: &[f64]) -> Vec<Note> {
     onsets_s
         .iter()
         .enumerate()
-        .map(|(i, &t)| Note {
-            onset_s: t,
-            offset_s: onsets_s.get(i + 1).copied().unwrap_or(t + last_gap),
-            midi: 0,
-        })
+        .map(|(i, &t)| Note::new(t, onsets_s.get(i + 1).copied().unwrap_or(t + last_gap), 0))
         .collect()
 }
 
@@ -277,11 +273,7 @@ mod tests {
     #[test]
     fn a_beat_on_every_note_start_scores_full_coverage() {
         let notes: Vec<Note> = (0..8)
-            .map(|i| Note {
-                onset_s: 0.5 * i as f64,
-                offset_s: 0.5 * i as f64 + 0.5,
-                midi: 69,
-            })
+            .map(|i| Note::new(0.5 * i as f64, 0.5 * i as f64 + 0.5, 69))
             .collect();
         let beats: Vec<f64> = (0..8).map(|i| 0.5 * i as f64 + 0.02).collect();
         let peak = |bpm| TempogramPeak {

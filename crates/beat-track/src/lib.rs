@@ -18,12 +18,11 @@
 //! * [`estimate_meter`] — beats per bar (2, 3, 4 or 6/8) and bar phase from accents and,
 //!   when given ([`BarEvidence`]), notes from `pitch-track` and bow changes (see [`meter`]).
 //! * [`BeatTracker`] — all of it in one call → [`BeatAnalysis`].
-//! * [`eval`] — beat/downbeat F-measure as mir_eval; [`synth`] — the labelled synthetic
-//!   violin of `pitch-track`, re-exported.
+//! * [`eval`] — beat/downbeat F-measure as mir_eval (the matcher is `performance`'s).
 //!
 //! ```
 //! use beat_track::{BeatConfig, BeatTracker};
-//! use beat_track::synth::{render, SynthConfig};
+//! use pitch_track::synth::{render, SynthConfig};
 //! let piece = render(&SynthConfig { bars: 6, tempo_bpm: 110.0, ..SynthConfig::default() })?;
 //! let analysis = BeatTracker::new(BeatConfig::default())?.track(&piece.samples, None)?;
 //! let f = beat_track::eval::beat_prf(&piece.beats_s, &analysis.beats_s, 0.07).f_measure;
@@ -51,6 +50,5 @@ pub use level::{LevelCandidate, LevelConfig, LevelFeatures, LevelWeights, Tempog
 pub use meter::{estimate_meter, Meter, MeterConfig, MeterEstimate};
 pub use onset::{Aggregate, OnsetConfig, OnsetEnvelope, OnsetStrength};
 pub use peaks::{onset_detect, peak_pick, PeakPick};
-pub use pitch_track::synth;
 pub use tempo::{estimate_tempo, mean_tempogram, mean_tempogram_strided, TempoConfig};
 pub use tracker::{BeatAnalysis, BeatConfig, BeatTracker};

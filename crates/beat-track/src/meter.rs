@@ -33,20 +33,11 @@
 //! subdivision is not considered. The winner gives the downbeats, the beats (every second or third tracked
 //! beat for the finer-level readings) and the tempo at that level.
 
+pub use performance::Meter;
 use serde::{Deserialize, Serialize};
 
 use crate::bar_features::{BarEvidence, BeatFeatures};
 use crate::onset::OnsetEnvelope;
-
-/// Beats per bar and subdivisions per beat: 4/4 = `{4, 2}`, 3/4 = `{3, 2}`, 2/4 = `{2, 2}`,
-/// 6/8 = `{2, 3}`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-pub struct Meter {
-    /// Beats per bar.
-    pub beats_per_bar: u8,
-    /// Subdivisions per beat (3 = compound).
-    pub subdivisions: u8,
-}
 
 /// Weights of the beat-strength features and the compound-metre rule.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -230,7 +221,7 @@ fn fit(strength: &[f64], label: impl Fn(usize) -> usize) -> (f64, [f64; 3]) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use pitch_track::Note;
+    use performance::Note;
 
     fn accents(m: usize, n: usize, offset: usize) -> (Vec<f64>, OnsetEnvelope) {
         let hop_s = 0.01;
@@ -289,11 +280,7 @@ mod tests {
         let notes: Vec<Note> = beats
             .iter()
             .enumerate()
-            .map(|(i, &b)| Note {
-                onset_s: b,
-                offset_s: b + if i % 3 == 1 { 0.2 } else { 0.5 },
-                midi: 69,
-            })
+            .map(|(i, &b)| Note::new(b, b + if i % 3 == 1 { 0.2 } else { 0.5 }, 69))
             .collect();
         let est = estimate_meter(
             &beats,

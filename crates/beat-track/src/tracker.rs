@@ -3,7 +3,7 @@
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use pitch_track::Note;
+use performance::Note;
 
 use crate::bar_features::BarEvidence;
 use crate::dp::track_beats_with;
@@ -400,11 +400,7 @@ mod tests {
     use super::*;
 
     fn note(onset_s: f64, offset_s: f64) -> Note {
-        Note {
-            onset_s,
-            offset_s,
-            midi: 69,
-        }
+        Note::new(onset_s, offset_s, 69)
     }
 
     #[test]

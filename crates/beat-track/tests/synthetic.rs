@@ -3,10 +3,10 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use beat_track::eval::{beat_prf, BEAT_TOLERANCE_S};
-use beat_track::synth::{render, SynthConfig};
 use beat_track::{
     estimate_tempo, BeatConfig, BeatError, BeatTracker, OnsetConfig, OnsetStrength, TempoConfig,
 };
+use pitch_track::synth::{render, SynthConfig};
 use pitch_track::{segment_notes, NoteConfig, PitchConfig, PitchTracker};
 
 #[test]

@@ -57,7 +57,9 @@ pub fn run(args: &AnalyzeArgs, report: &Reporter) -> Result<(), CliError> {
         bar.set_position(done_s.floor() as u64);
     })?;
     if let Some(fps) = args.f0_fps {
-        analysis.f0 = analysis.f0.resampled_to_fps(fps);
+        analysis.f0 = violin_skeleton::pitch_track::PitchTrack::from_f0_track(&analysis.f0)
+            .resample_to_fps(fps)
+            .to_f0_track();
     }
     let analysed = t0.elapsed();
     bar.finish_and_clear();

@@ -99,7 +99,7 @@ pub fn run(args: &DemoArgs, report: &Reporter) -> Result<(), CliError> {
     // 4. How close the analysis came to what was played.
     let truth_changes = timeline.bow_changes_s();
     let changes = match_events_s(&analysis.bow_changes_s, &truth_changes, 0.1);
-    let onsets: Vec<f64> = timeline.notes.iter().map(|n| n.onset_s).collect();
+    let onsets: Vec<f64> = timeline.notes.iter().map(|n| n.note.onset_s).collect();
     let found: Vec<f64> = analysis.notes.iter().map(|n| n.onset_s).collect();
     let notes = match_events_s(&found, &onsets, 0.05);
     report.line(&format!(

@@ -4,8 +4,9 @@
 use std::path::Path;
 use std::process::Command;
 
-use violin_skeleton::motion_synth::{synthesize, Performance, SynthConfig};
+use violin_skeleton::motion_synth::{synthesize, SynthConfig};
 use violin_skeleton::skeleton::MotionFormat;
+use violin_skeleton::Performance;
 
 fn cli() -> Command {
     Command::new(env!("CARGO_BIN_EXE_violin-skeleton"))

@@ -52,9 +52,9 @@ fn main() {
         writeln!(
             f,
             "{:.4}\t{:.4}\t{}\t{}",
-            n.onset_s,
-            n.offset_s,
-            n.midi,
+            n.note.onset_s,
+            n.note.offset_s,
+            n.note.midi,
             u8::from(n.bow_change)
         )
         .unwrap();

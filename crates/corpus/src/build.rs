@@ -121,7 +121,7 @@ pub fn build_corpus(
     let splits = Split::assign(count);
     let seeds = Rng::new(cfg.seed);
     let done = AtomicUsize::new(0);
-    let entries: Vec<Result<(ManifestItem, crate::timing::Timeline, String), CorpusError>> = (0
+    let entries: Vec<Result<(ManifestItem, performance::Timeline, String), CorpusError>> = (0
         ..count)
         .into_par_iter()
         .map(|i| {

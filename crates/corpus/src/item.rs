@@ -1,6 +1,7 @@
 //! One corpus item: an étude, its timeline, its ground-truth `Performance`, audio and motion.
 
-use motion_synth::{synthesize, ArousalCurve, Performance, PlayedNote, SynthConfig};
+use motion_synth::{synthesize, SynthConfig};
+use performance::Performance;
 use serde::{Deserialize, Serialize};
 use skeleton::Motion;
 
@@ -10,7 +11,8 @@ use crate::etude::{generate, EtudeConfig};
 use crate::render::{RenderSettings, Renderer};
 use crate::rng::Rng;
 use crate::score::Etude;
-use crate::timing::{play, Timeline};
+use crate::timing::play;
+use performance::Timeline;
 
 /// Which renderer made an item.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -43,24 +45,8 @@ pub struct CorpusItem {
 
 /// The timeline as a validated [`Performance`] with fingering and dynamics.
 pub fn performance_of(timeline: &Timeline) -> Result<Performance, CorpusError> {
-    let notes: Vec<PlayedNote> = timeline
-        .notes
-        .iter()
-        .map(|n| {
-            let mut p = PlayedNote::new(n.onset_s, n.offset_s, n.midi);
-            p.fingering = n.fingering;
-            p
-        })
-        .collect();
-    let dynamics: Vec<f32> = timeline.notes.iter().map(|n| n.dynamic).collect();
-    Performance::builder(timeline.duration_s)
-        .notes(notes)
-        .bow_changes(timeline.bow_changes_s())
-        .beats(timeline.beats_s.clone())
-        .downbeats(timeline.downbeats_s.clone())
-        .arousal(ArousalCurve::deam(timeline.arousal_2hz.clone()))
-        .dynamics(dynamics)
-        .build()
+    timeline
+        .to_performance()
         .map_err(|e| CorpusError::Performance(e.to_string()))
 }
 

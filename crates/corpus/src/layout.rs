@@ -3,7 +3,7 @@
 //! | file | content |
 //! |---|---|
 //! | `audio.wav` | mono 16-bit PCM at the item's sample rate |
-//! | `performance.json` | the ground-truth `motion_synth::Performance` |
+//! | `performance.json` | the ground-truth `performance::Performance` |
 //! | `notes.tsv` | `onset_s`, `offset_s`, `midi` separated by tabs, with a header |
 //! | `bowchanges.txt`, `beats.txt`, `downbeats.txt` | one time in seconds per line |
 //! | `arousal.csv` | `time_s,arousal` at 2 Hz, in [-1, 1] |
@@ -58,7 +58,11 @@ pub fn write_item(root: &Path, index: usize, item: &CorpusItem) -> Result<PathBu
     write_text(&dir.join("performance.json"), &perf)?;
     let mut notes = String::from("onset_s\toffset_s\tmidi\n");
     for n in &item.timeline.notes {
-        let _ = writeln!(notes, "{:.6}\t{:.6}\t{}", n.onset_s, n.offset_s, n.midi);
+        let _ = writeln!(
+            notes,
+            "{:.6}\t{:.6}\t{}",
+            n.note.onset_s, n.note.offset_s, n.note.midi
+        );
     }
     write_text(&dir.join("notes.tsv"), &notes)?;
     write_text(

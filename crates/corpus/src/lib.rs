@@ -29,7 +29,6 @@ pub mod item;
 pub mod layout;
 pub mod manifest;
 pub mod melodies;
-pub mod midi;
 pub mod render;
 pub mod rng;
 pub mod score;

@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::timing::Timeline;
+use performance::Timeline;
 
 /// Upper edges (exclusive) of the stroke-length histogram bins, in frames at 30 fps; the
 /// last bin is open-ended. 15 and 28 are the seed's partial/full-bow thresholds.

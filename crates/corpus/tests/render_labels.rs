@@ -5,8 +5,9 @@
 
 use corpus::etude::{generate, EtudeConfig};
 use corpus::render::{BowedStringSynth, RenderSettings, Renderer};
-use corpus::timing::{play, Timeline};
+use corpus::timing::play;
 use fingering::OptimalPlanner;
+use performance::Timeline;
 
 const SR: u32 = 22_050;
 
@@ -54,14 +55,14 @@ fn bow_changes_dip_and_slurs_do_not() {
         for w in t.notes.windows(2) {
             let (prev, note) = (&w[0], &w[1]);
             // Only joined changes between notes long enough to measure, same dynamic region.
-            let joined = note.onset_s - prev.offset_s < 0.05;
-            if !joined || note.onset_s - prev.onset_s < 0.15 {
+            let joined = note.note.onset_s - prev.note.offset_s < 0.05;
+            if !joined || note.note.onset_s - prev.note.onset_s < 0.15 {
                 continue;
             }
-            let r = dip_ratio(&audio, note.onset_s);
+            let r = dip_ratio(&audio, note.note.onset_s);
             if note.bow_change {
                 change_ratios.push(r);
-            } else if note.midi == prev.midi {
+            } else if note.note.midi == prev.note.midi {
                 portato_ratios.push(r);
             } else {
                 slur_ratios.push(r);
@@ -110,25 +111,25 @@ fn onsets_after_rests_are_on_time_and_rests_are_silent() {
         let peak = audio.iter().fold(0.0f32, |m, x| m.max(x.abs())) as f64;
         for w in t.notes.windows(2) {
             let (prev, note) = (&w[0], &w[1]);
-            let gap = note.onset_s - prev.offset_s;
+            let gap = note.note.onset_s - prev.note.offset_s;
             if gap < 0.25 {
                 continue;
             }
             // The rest (after the release tail) is silent.
-            let quiet = rms(&audio, prev.offset_s + 0.2, note.onset_s - 0.01);
+            let quiet = rms(&audio, prev.note.offset_s + 0.2, note.note.onset_s - 0.01);
             assert!(
                 quiet < peak * 1e-3,
                 "seed {seed}: rest at {:.2}s not silent",
-                prev.offset_s
+                prev.note.offset_s
             );
             // Energy onset: first 1 ms block above 10 % of the note's level.
-            let level = rms(&audio, note.onset_s + 0.06, note.onset_s + 0.1);
-            let start = note.onset_s - 0.03;
+            let level = rms(&audio, note.note.onset_s + 0.06, note.note.onset_s + 0.1);
+            let start = note.note.onset_s - 0.03;
             let first = (0..80)
                 .map(|k| start + 0.001 * f64::from(k))
                 .find(|a| rms(&audio, *a, a + 0.001) > 0.1 * level)
                 .unwrap();
-            errors_ms.push((first - note.onset_s).abs() * 1e3);
+            errors_ms.push((first - note.note.onset_s).abs() * 1e3);
         }
     }
     assert!(errors_ms.len() > 10);

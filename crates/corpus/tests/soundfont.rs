@@ -2,19 +2,16 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use corpus::render::{tiny_violin_sf2, RenderError, RenderSettings, Renderer, SoundFontRenderer};
-use corpus::timing::{TimedNote, Timeline};
+use performance::{Note, TimedNote, Timeline};
 
 const SR: u32 = 22_050;
 
 fn note(onset_s: f64, offset_s: f64, midi: u8, bow_change: bool) -> TimedNote {
     TimedNote {
-        onset_s,
-        offset_s,
-        midi,
+        note: Note::new(onset_s, offset_s, midi),
         bow_change,
         dynamic: 0.7,
         accent: false,
-        fingering: None,
     }
 }
 

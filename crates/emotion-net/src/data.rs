@@ -3,7 +3,7 @@
 //! **Corpus layout**: `DIR/manifest.json` + `DIR/items/NNNNN/{audio.wav, performance.json,
 //! arousal.csv}`; splits from the manifest. The target is the corpus's arousal proxy,
 //! recomputed from the item's notes and dynamics (`performance.json`) with
-//! [`corpus::timing::arousal_proxy_of_spans`], so corpora written before the proxy's change
+//! [`performance::arousal_proxy_of_spans`], so corpora written before the proxy's change
 //! train on the current definition; [`CorpusTarget::File`] reads `arousal.csv` (`time_s,
 //! arousal` at 2 Hz from 0 s) as written instead.
 //!
@@ -139,7 +139,7 @@ pub fn read_corpus_arousal(path: &Path) -> Result<Vec<f32>> {
 /// (notes and per-note dynamics).
 pub fn corpus_proxy(item_dir: &Path) -> Result<Vec<f32>> {
     let path = item_dir.join("performance.json");
-    let perf = motion_synth::Performance::read_json(&path)
+    let perf = performance::Performance::read_json(&path)
         .map_err(|e| NetError::data(&path, format!("cannot read the performance ({e})")))?;
     let dynamics = perf.dynamics().ok_or_else(|| {
         NetError::data(
@@ -153,7 +153,7 @@ pub fn corpus_proxy(item_dir: &Path) -> Result<Vec<f32>> {
         .zip(dynamics)
         .map(|(n, &d)| (n.onset_s, n.offset_s, d))
         .collect();
-    Ok(corpus::timing::arousal_proxy_of_spans(
+    Ok(performance::arousal_proxy_of_spans(
         &spans,
         perf.duration_s(),
     ))

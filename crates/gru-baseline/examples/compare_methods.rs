@@ -43,10 +43,9 @@ use dsp_mel::{load_audio, resample, Audio};
 use gru_baseline::data::corpus::read_manifest;
 use gru_baseline::eval::l1_px;
 use gru_baseline::GruBaseline;
-use motion_synth::{
-    synthesize, synthesize_detailed, Performance, PlayedNote, PoseInput, SynthConfig,
-};
+use motion_synth::{synthesize, synthesize_detailed, PoseInput, SynthConfig};
 use ndarray::Array3;
+use performance::{Note, Performance};
 use skeleton::formats::MotionFormat;
 use skeleton::{Joint, Motion};
 
@@ -164,11 +163,11 @@ fn analysed_performance(
         .track(a.samples(), Some(&notes))?;
     let duration = audio.duration_s();
     let table = fingering::OptimalPlanner::default();
-    let played: Vec<PlayedNote> = notes
+    let played: Vec<Note> = notes
         .iter()
         .filter(|n| !table.table().places(n.midi).is_empty())
         .filter(|n| n.onset_s < duration)
-        .map(|n| PlayedNote::new(n.onset_s, n.offset_s.min(duration), n.midi))
+        .map(|n| Note::new(n.onset_s, n.offset_s.min(duration), n.midi))
         .collect();
     let changes: Vec<f64> = match detector {
         Some(d) => d.detect_audio(audio)?,

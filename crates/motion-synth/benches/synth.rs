@@ -5,7 +5,8 @@
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use fingering::OptimalPlanner;
-use motion_synth::{bow, synthesize, ArousalCurve, BowPolicy, Performance, SynthConfig};
+use motion_synth::{bow, synthesize, BowPolicy, SynthConfig};
+use performance::{ArousalCurve, Performance};
 
 /// Three minutes of eighth notes at 100 bpm over two octaves of G major, a bow change
 /// every two notes, beats, downbeats and a slow arousal wave; fingerings planned.

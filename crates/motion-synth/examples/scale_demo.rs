@@ -14,9 +14,9 @@ use std::time::Instant;
 
 use fingering::OptimalPlanner;
 use motion_synth::metrics::{self, MotionReport};
-use motion_synth::{
-    bow, bvh, synthesize_detailed, ArousalCurve, Performance, PlayedNote, SynthConfig,
-};
+use motion_synth::{bow, bvh, synthesize_detailed, SynthConfig};
+use performance::Note;
+use performance::{ArousalCurve, Performance};
 use skeleton::MotionFormat;
 use skeleton_render::{write_gif_file, RenderConfig};
 
@@ -48,7 +48,7 @@ fn etude() -> Vec<(u8, f64, bool)> {
 
 /// The étude repeated `passes` times, with beats, downbeats, a rising arousal curve and
 /// dynamics following it.
-fn performance(passes: usize) -> Result<Performance, motion_synth::PerformanceError> {
+fn performance(passes: usize) -> Result<Performance, performance::PerformanceError> {
     let pass_s = 16.0 * BEAT_S;
     let tail_s = 0.4;
     let duration_s = passes as f64 * pass_s + tail_s;
@@ -61,7 +61,7 @@ fn performance(passes: usize) -> Result<Performance, motion_synth::PerformanceEr
             if new_stroke && t > 0.0 {
                 changes.push(t);
             }
-            notes.push(PlayedNote::new(t, t + len * 0.97, midi));
+            notes.push(Note::new(t, t + len * 0.97, midi));
             t += len;
         }
     }

@@ -15,7 +15,7 @@
 //!   after the last downbeat the nearest bar length is repeated.
 
 use crate::interp::MonotoneCubic;
-use crate::performance::Performance;
+use performance::Performance;
 
 /// Tunables of the body rules (degrees, seconds).
 #[derive(Debug, Clone, PartialEq)]

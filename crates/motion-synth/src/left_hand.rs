@@ -11,7 +11,7 @@ use fingering::{Fingering, FingeringPlanner, OptimalPlanner};
 
 use crate::error::Result;
 use crate::geometry::smoothstep;
-use crate::performance::PlayedNote;
+use performance::Note;
 
 /// Glide lengths of the left hand and of string crossings.
 #[derive(Debug, Clone, PartialEq)]
@@ -45,7 +45,7 @@ const PLAYABLE_MIDI: (u8, u8) = (55, 105);
 
 /// The fingering of every note: the given one, or for notes without one the choice of
 /// [`OptimalPlanner`] over the whole melody (pitches outside G3..A7 clamped into range).
-pub fn resolve_fingerings(notes: &[PlayedNote]) -> Result<Vec<Fingering>> {
+pub fn resolve_fingerings(notes: &[Note]) -> Result<Vec<Fingering>> {
     let mut out: Vec<Fingering> = Vec::with_capacity(notes.len());
     if notes.iter().all(|n| n.fingering.is_some()) {
         out.extend(notes.iter().filter_map(|n| n.fingering));
@@ -99,7 +99,7 @@ pub fn glide_track(events: &[(f64, f64)], glide_s: f64, fps: f64, out: &mut [f64
 
 /// Per-frame string index (0 = G … 3 = E) and hand place (semitones from the nut).
 pub fn left_hand_tracks(
-    notes: &[PlayedNote],
+    notes: &[Note],
     fingerings: &[Fingering],
     fps: f64,
     cfg: &LeftHandConfig,
@@ -150,10 +150,10 @@ mod tests {
         use fingering::ViolinString;
         let given = Fingering::new(ViolinString::D, 3, 1);
         let notes = vec![
-            PlayedNote::new(0.0, 0.5, 40), // below the violin: clamped to G3
-            PlayedNote {
+            Note::new(0.0, 0.5, 40), // below the violin: clamped to G3
+            Note {
                 fingering: Some(given),
-                ..PlayedNote::new(0.5, 1.0, 67)
+                ..Note::new(0.5, 1.0, 67)
             },
         ];
         let f = resolve_fingerings(&notes).unwrap();

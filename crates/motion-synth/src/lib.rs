@@ -22,7 +22,8 @@
 //!   alignment).
 //!
 //! ```
-//! use motion_synth::{metrics, synthesize_detailed, ArousalCurve, Performance, SynthConfig};
+//! use motion_synth::{metrics, synthesize_detailed, SynthConfig};
+//! use performance::{ArousalCurve, Performance};
 //! let perf = Performance::builder(4.0)
 //!     .note(0.0, 1.0, 67).note(1.0, 2.0, 69).note(2.0, 3.0, 71).note(3.0, 4.0, 72)
 //!     .bow_changes(vec![1.0, 2.0, 3.0])
@@ -47,19 +48,14 @@ pub mod ik;
 pub mod interp;
 pub mod left_hand;
 pub mod metrics;
-mod note_serde;
-mod performance;
 mod rig;
 mod synth;
 
 pub use body::BodyConfig;
 pub use bow::{BowDirection, BowPlan, BowPolicy, BowStroke};
 pub use camera::Camera;
-pub use error::{PerformanceError, Result, SynthError};
+pub use error::{Result, SynthError};
 pub use left_hand::LeftHandConfig;
-pub use performance::{
-    ArousalCurve, Performance, PerformanceBuilder, PerformanceParts, PlayedNote,
-};
 pub use rig::{BowGeometry, Pose, PoseInput, Rig, ViolinGeometry};
 pub use synth::{synthesize, synthesize_detailed, SynthConfig, Synthesis};
 

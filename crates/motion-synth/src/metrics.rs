@@ -4,8 +4,8 @@ use ndarray::{Array3, Axis};
 use serde::Serialize;
 use skeleton::Motion;
 
-use crate::performance::Performance;
 use crate::synth::Synthesis;
+use performance::Performance;
 
 /// Share of frames whose bow position lies outside [0, 1] (0 for the planner by
 /// construction; the original rule taken literally drifts, see [`crate::bow::plan_naive`]).

@@ -8,8 +8,8 @@ use crate::bow::{change_frames, plan_bow, BowPlan, BowPolicy};
 use crate::camera::Camera;
 use crate::error::{Result, SynthError};
 use crate::left_hand::{left_hand_tracks, resolve_fingerings, LeftHandConfig};
-use crate::performance::Performance;
 use crate::rig::{PoseInput, Rig};
+use performance::Performance;
 
 /// Everything [`synthesize`] can be tuned with; the default is the product's.
 #[derive(Debug, Clone, PartialEq)]
@@ -91,7 +91,8 @@ pub struct Synthesis {
 /// planned with [`fingering::OptimalPlanner`]. Deterministic.
 ///
 /// ```
-/// use motion_synth::{synthesize, Performance, SynthConfig};
+/// use motion_synth::{synthesize, SynthConfig};
+/// use performance::Performance;
 /// let perf = Performance::builder(2.0).note(0.0, 1.0, 67).note(1.0, 2.0, 74)
 ///     .bow_changes(vec![1.0]).build()?;
 /// let motion = synthesize(&perf, &SynthConfig::default())?;

@@ -2,7 +2,7 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use motion_synth::body::{body_track, BodyConfig};
-use motion_synth::{ArousalCurve, Performance};
+use performance::{ArousalCurve, Performance};
 
 fn perf(duration: f64, downbeats: Vec<f64>, arousal: Option<Vec<f32>>) -> Performance {
     let mut b = Performance::builder(duration)

@@ -2,8 +2,9 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use motion_synth::bvh::{joint_for, parse_bvh, write_bvh, write_bvh_file};
-use motion_synth::{synthesize, ArousalCurve, Performance, SynthConfig, SynthError};
+use motion_synth::{synthesize, SynthConfig, SynthError};
 use ndarray::Array3;
+use performance::{ArousalCurve, Performance};
 use skeleton::{Joint, Motion};
 
 fn motion() -> Motion {

@@ -2,9 +2,9 @@
 //! length, nothing is NaN, and synthesis is deterministic.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use motion_synth::{
-    metrics, synthesize_detailed, ArousalCurve, Performance, PlayedNote, SynthConfig,
-};
+use motion_synth::{metrics, synthesize_detailed, SynthConfig};
+use performance::Note;
+use performance::{ArousalCurve, Performance};
 use proptest::prelude::*;
 
 /// A random but valid performance: notes with gaps, bow changes on some onsets plus a few
@@ -25,7 +25,7 @@ fn performance() -> impl Strategy<Value = Performance> {
                 if change && t > 0.0 {
                     changes.push(t);
                 }
-                notes.push(PlayedNote::new(t, t + len, midi));
+                notes.push(Note::new(t, t + len, midi));
                 t += len + gap;
             }
             let duration = t + 0.1;

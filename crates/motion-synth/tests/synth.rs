@@ -3,7 +3,8 @@
 
 use fingering::{Fingering, ViolinString};
 use motion_synth::metrics::MotionReport;
-use motion_synth::{synthesize_detailed, Performance, SynthConfig};
+use motion_synth::{synthesize_detailed, SynthConfig};
+use performance::Performance;
 use skeleton::{InstrumentPoint, Joint};
 
 fn y3(m: &skeleton::Motion, f: usize, j: Joint) -> f32 {

@@ -4,20 +4,11 @@
 
 use serde::{Deserialize, Serialize};
 
+pub use performance::Note;
+
 use crate::error::{PitchError, Result};
 use crate::novelty::{onset_novelty, NoveltyConfig};
 use crate::track::PitchTrack;
-
-/// One note: when it starts and ends, and its MIDI pitch.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct Note {
-    /// Start in seconds.
-    pub onset_s: f64,
-    /// End in seconds.
-    pub offset_s: f64,
-    /// MIDI pitch (the rounded median over the note).
-    pub midi: u8,
-}
 
 /// Parameters of the segmentation (the method is described at [`segment_notes`]).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -193,11 +184,11 @@ pub fn segment_notes_with_novelty(
 }
 
 fn note(start: usize, end: usize, pitch: f32, hop_s: f64) -> Note {
-    Note {
-        onset_s: start as f64 * hop_s,
-        offset_s: end as f64 * hop_s,
-        midi: pitch.round().clamp(0.0, 127.0) as u8,
-    }
+    Note::new(
+        start as f64 * hop_s,
+        end as f64 * hop_s,
+        pitch.round().clamp(0.0, 127.0) as u8,
+    )
 }
 
 /// A stretch of constant quantised pitch, frames `start..end` of a run.

@@ -2,7 +2,7 @@
 //! every bow change starts a new note, even when the pitch stays the same and the attack is
 //! too soft for the pitch path or the onset novelty to show.
 
-use crate::notes::Note;
+use performance::Note;
 
 /// Splits every note that contains one of `times_s` at least `min_part_s` away from both of
 /// its ends into two notes of the same pitch, the second starting at that time. `times_s`
@@ -10,7 +10,7 @@ use crate::notes::Note;
 ///
 /// ```
 /// use pitch_track::{split_notes_at, Note};
-/// let notes = vec![Note { onset_s: 1.0, offset_s: 2.0, midi: 69 }];
+/// let notes = vec![Note::new(1.0, 2.0, 69)];
 /// let split = split_notes_at(&notes, &[1.02, 1.5, 3.0], 0.08);
 /// assert_eq!(split.len(), 2); // 1.02 is too close to the onset; 3.0 is in a rest
 /// assert_eq!((split[0].offset_s, split[1].onset_s, split[1].midi), (1.5, 1.5, 69));
@@ -29,7 +29,7 @@ pub fn split_notes_at(notes: &[Note], times_s: &[f64], min_part_s: f64) -> Vec<N
                 out.push(Note {
                     onset_s: start,
                     offset_s: t,
-                    midi: note.midi,
+                    ..*note
                 });
                 start = t;
             }
@@ -37,8 +37,7 @@ pub fn split_notes_at(notes: &[Note], times_s: &[f64], min_part_s: f64) -> Vec<N
         }
         out.push(Note {
             onset_s: start,
-            offset_s: note.offset_s,
-            midi: note.midi,
+            ..*note
         });
     }
     out
@@ -52,8 +51,8 @@ pub fn split_notes_at(notes: &[Note], times_s: &[f64], min_part_s: f64) -> Vec<N
 /// ```
 /// use pitch_track::{start_notes_at, Note};
 /// let notes = [
-///     Note { onset_s: 0.0, offset_s: 1.02, midi: 69 },
-///     Note { onset_s: 1.02, offset_s: 2.0, midi: 71 },
+///     Note::new(0.0, 1.02, 69),
+///     Note::new(1.02, 2.0, 71),
 /// ];
 /// let moved = start_notes_at(&notes, &[1.0, 1.5], 0.03);
 /// assert_eq!((moved[0].offset_s, moved[1].onset_s), (1.0, 1.0));
@@ -83,11 +82,7 @@ mod tests {
     use super::*;
 
     fn note(on: f64, off: f64, midi: u8) -> Note {
-        Note {
-            onset_s: on,
-            offset_s: off,
-            midi,
-        }
+        Note::new(on, off, midi)
     }
 
     #[test]

@@ -1,5 +1,6 @@
 //! The tracker's output, [`PitchTrack`], and the tracker itself, [`PitchTracker`].
 
+use performance::F0Track;
 use serde::{Deserialize, Serialize};
 
 use crate::config::PitchConfig;
@@ -26,6 +27,40 @@ pub struct PitchTrack {
 }
 
 impl PitchTrack {
+    /// The track in `analysis.json`'s form ([`F0Track`]: 0 Hz where unvoiced, as JSON has
+    /// no NaN).
+    pub fn to_f0_track(&self) -> F0Track {
+        F0Track {
+            hop_s: self.hop_s,
+            hz: self
+                .f0_hz
+                .iter()
+                .map(|&f| if f.is_finite() { f } else { 0.0 })
+                .collect(),
+            voiced_prob: self.voiced_prob.clone(),
+        }
+    }
+
+    /// A track from `analysis.json`'s form (0 Hz or less reads as unvoiced).
+    ///
+    /// ```
+    /// let f0 = performance::F0Track { hop_s: 0.01, hz: vec![0.0, 440.0], voiced_prob: vec![0.1, 0.9] };
+    /// let track = pitch_track::PitchTrack::from_f0_track(&f0);
+    /// assert!(track.f0_hz[0].is_nan());
+    /// assert_eq!(track.to_f0_track(), f0);
+    /// ```
+    pub fn from_f0_track(f0: &F0Track) -> PitchTrack {
+        PitchTrack {
+            hop_s: f0.hop_s,
+            f0_hz: f0
+                .hz
+                .iter()
+                .map(|&f| if f > 0.0 { f } else { f32::NAN })
+                .collect(),
+            voiced_prob: f0.voiced_prob.clone(),
+        }
+    }
+
     /// Number of frames.
     pub fn len(&self) -> usize {
         self.f0_hz.len()

@@ -18,7 +18,7 @@ use crate::render::biquad::Biquad;
 use crate::render::portato::portato_gain;
 use crate::render::{RenderError, RenderSettings, Renderer};
 use crate::rng::Rng;
-use crate::timing::{TimedNote, Timeline};
+use performance::{TimedNote, Timeline};
 
 /// Tunable constants of the synthesizer.
 #[derive(Debug, Clone, PartialEq)]
@@ -69,7 +69,7 @@ fn strokes(notes: &[TimedNote]) -> Vec<Stroke<'_>> {
         if i == notes.len() || notes[i].bow_change {
             let followed_by_change = notes
                 .get(i)
-                .is_some_and(|n| n.onset_s - notes[i - 1].offset_s < 0.1);
+                .is_some_and(|n| n.note.onset_s - notes[i - 1].note.offset_s < 0.1);
             out.push(Stroke {
                 notes: &notes[start..i],
                 followed_by_change,
@@ -142,8 +142,8 @@ impl BowedStringSynth {
         let Some(last) = stroke.notes.last() else {
             return;
         };
-        let start = first.onset_s;
-        let end = last.offset_s;
+        let start = first.note.onset_s;
+        let end = last.note.offset_s;
         let decay = if stroke.followed_by_change {
             cfg.change_decay_s
         } else {
@@ -163,8 +163,8 @@ impl BowedStringSynth {
             .notes
             .iter()
             .map(|n| {
-                let open = n.fingering.is_some_and(|f| f.is_open());
-                let depth = if open || n.offset_s - n.onset_s < 0.25 {
+                let open = n.note.fingering.is_some_and(|f| f.is_open());
+                let depth = if open || n.note.offset_s - n.note.onset_s < 0.25 {
                     0.0
                 } else {
                     rng.uniform(cfg.vibrato_cents.0, cfg.vibrato_cents.1)
@@ -188,22 +188,23 @@ impl BowedStringSynth {
         let dt = 1.0 / sr;
         for (i, sample) in out.iter_mut().enumerate().take(i1).skip(i0) {
             let t = i as f64 * dt;
-            while note_idx + 1 < stroke.notes.len() && t >= stroke.notes[note_idx + 1].onset_s {
+            while note_idx + 1 < stroke.notes.len() && t >= stroke.notes[note_idx + 1].note.onset_s
+            {
                 note_idx += 1;
             }
             let note = &stroke.notes[note_idx];
             // Pitch: glide from the previous slurred note, then vibrato.
-            let mut midi = f64::from(note.midi);
+            let mut midi = f64::from(note.note.midi);
             if note_idx > 0 {
-                let since = t - note.onset_s;
+                let since = t - note.note.onset_s;
                 if since < cfg.slur_glide_s {
                     let x = since / cfg.slur_glide_s;
                     let s = x * x * (3.0 - 2.0 * x);
-                    midi = f64::from(stroke.notes[note_idx - 1].midi) * (1.0 - s) + midi * s;
+                    midi = f64::from(stroke.notes[note_idx - 1].note.midi) * (1.0 - s) + midi * s;
                 }
             }
             let (depth, rate, delay, vphase) = vib[note_idx];
-            let since_onset = t - note.onset_s;
+            let since_onset = t - note.note.onset_s;
             if depth > 0.0 && since_onset > delay {
                 let ramp = ((since_onset - delay) / 0.2).min(1.0);
                 midi += ramp * depth / 100.0

@@ -12,7 +12,7 @@ pub use portato::{is_portato, portato_gain, PORTATO_FALL_S, PORTATO_FLOOR, PORTA
 pub use sf2_writer::tiny_violin_sf2;
 pub use soundfont::SoundFontRenderer;
 
-use crate::timing::Timeline;
+use performance::Timeline;
 
 /// What can go wrong while rendering.
 #[derive(Debug, thiserror::Error)]

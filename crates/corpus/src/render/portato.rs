@@ -5,7 +5,7 @@
 //! swells. Both renderers apply this gain to the amplitude around such a note's onset;
 //! every other note is untouched.
 
-use crate::timing::TimedNote;
+use performance::TimedNote;
 
 /// Lowest gain, at the repeated note's onset (−10.5 dB).
 pub const PORTATO_FLOOR: f64 = 0.3;
@@ -17,7 +17,7 @@ pub const PORTATO_RISE_S: f64 = 0.03;
 /// Whether `notes[i]` repeats the previous note's pitch within the same bow.
 pub fn is_portato(notes: &[TimedNote], i: usize) -> bool {
     match (i.checked_sub(1).and_then(|p| notes.get(p)), notes.get(i)) {
-        (Some(prev), Some(note)) => !note.bow_change && note.midi == prev.midi,
+        (Some(prev), Some(note)) => !note.bow_change && note.note.midi == prev.note.midi,
         _ => false,
     }
 }
@@ -27,9 +27,9 @@ pub fn is_portato(notes: &[TimedNote], i: usize) -> bool {
 ///
 /// ```
 /// use corpus::render::portato_gain;
-/// use corpus::timing::TimedNote;
+/// use performance::{Note, TimedNote};
 /// let note = |onset_s, offset_s, bow_change| TimedNote {
-///     onset_s, offset_s, midi: 69, bow_change, dynamic: 0.5, accent: false, fingering: None,
+///     note: Note::new(onset_s, offset_s, 69), bow_change, dynamic: 0.5, accent: false,
 /// };
 /// let notes = [note(0.0, 0.5, true), note(0.5, 1.0, false)]; // A4, A4 under one bow
 /// assert_eq!(portato_gain(&notes, 0, 0.2), 1.0);
@@ -49,15 +49,15 @@ pub fn portato_gain(notes: &[TimedNote], sounding: usize, t_s: f64) -> f64 {
     let mut gain = 1.0f64;
     if is_portato(notes, sounding + 1) {
         if let Some(next) = notes.get(sounding + 1) {
-            let fall_s = PORTATO_FALL_S.min(0.25 * (next.onset_s - note.onset_s));
-            let before_s = next.onset_s - t_s;
+            let fall_s = PORTATO_FALL_S.min(0.25 * (next.note.onset_s - note.note.onset_s));
+            let before_s = next.note.onset_s - t_s;
             if fall_s > 0.0 && (0.0..fall_s).contains(&before_s) {
                 gain = gain.min(dip(before_s / fall_s));
             }
         }
     }
     if is_portato(notes, sounding) {
-        let since_s = t_s - note.onset_s;
+        let since_s = t_s - note.note.onset_s;
         if (0.0..PORTATO_RISE_S).contains(&since_s) {
             gain = gain.min(dip(since_s / PORTATO_RISE_S));
         }
@@ -68,16 +68,14 @@ pub fn portato_gain(notes: &[TimedNote], sounding: usize, t_s: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use performance::Note;
 
     fn note(onset_s: f64, offset_s: f64, midi: u8, bow_change: bool) -> TimedNote {
         TimedNote {
-            onset_s,
-            offset_s,
-            midi,
+            note: Note::new(onset_s, offset_s, midi),
             bow_change,
             dynamic: 0.5,
             accent: false,
-            fingering: None,
         }
     }
 

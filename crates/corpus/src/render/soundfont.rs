@@ -15,7 +15,7 @@ use rustysynth::{SoundFont, Synthesizer, SynthesizerSettings};
 use crate::render::portato::portato_gain;
 use crate::render::{RenderError, RenderSettings, Renderer};
 use crate::rng::Rng;
-use crate::timing::{TimedNote, Timeline};
+use performance::{TimedNote, Timeline};
 
 /// Samples rendered between control updates (pitch bend, events).
 const BLOCK: usize = 64;
@@ -114,8 +114,8 @@ impl Renderer for SoundFontRenderer {
             .notes
             .iter()
             .map(|n| {
-                let open = n.fingering.is_some_and(|f| f.is_open());
-                let depth = if open || n.offset_s - n.onset_s < 0.25 {
+                let open = n.note.fingering.is_some_and(|f| f.is_open());
+                let depth = if open || n.note.offset_s - n.note.onset_s < 0.25 {
                     0.0
                 } else {
                     rng.uniform(10.0, 25.0)
@@ -138,15 +138,15 @@ impl Renderer for SoundFontRenderer {
             // Note ends.
             if let Some((key, idx)) = held {
                 let ends_stroke = notes.get(idx + 1).is_none_or(|m| m.bow_change);
-                if ends_stroke && t >= notes[idx].offset_s {
+                if ends_stroke && t >= notes[idx].note.offset_s {
                     synth.inner.note_off(0, key);
                     held = None;
                 }
             }
             // Note starts.
-            while next < notes.len() && notes[next].onset_s <= t {
+            while next < notes.len() && notes[next].note.onset_s <= t {
                 let n = &notes[next];
-                let key = i32::from(n.midi);
+                let key = i32::from(n.note.midi);
                 match held {
                     Some((old_key, _))
                         if !n.bow_change && (key - old_key).abs() <= BEND_RANGE as i32 =>
@@ -185,12 +185,12 @@ impl Renderer for SoundFontRenderer {
             // Pitch: slur glide towards the sounding note, vibrato, tuning.
             if let Some((key, idx)) = held {
                 let n = &notes[idx];
-                let mut target = f64::from(n.midi);
-                let since = t - n.onset_s;
+                let mut target = f64::from(n.note.midi);
+                let since = t - n.note.onset_s;
                 if idx > 0 && !n.bow_change && since < 0.025 {
                     let x = since / 0.025;
                     let s = x * x * (3.0 - 2.0 * x);
-                    target = f64::from(notes[idx - 1].midi) * (1.0 - s) + target * s;
+                    target = f64::from(notes[idx - 1].note.midi) * (1.0 - s) + target * s;
                 }
                 let (depth, rate, delay) = vib[idx];
                 if depth > 0.0 && since > delay {

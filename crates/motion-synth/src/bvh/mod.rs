@@ -26,7 +26,8 @@
 //! turns y-up into z-up).
 //!
 //! ```
-//! use motion_synth::{bvh, synthesize, Performance, SynthConfig};
+//! use motion_synth::{bvh, synthesize, SynthConfig};
+//! use performance::Performance;
 //! let perf = Performance::builder(1.0).note(0.0, 1.0, 69).build()?;
 //! let motion = synthesize(&perf, &SynthConfig::default())?;
 //! let mut text = Vec::new();

@@ -2,81 +2,13 @@
 
 use std::path::Path;
 
-use fingering::{Fingering, FingeringPlanner};
+use fingering::{Fingering, FingeringError, FingeringPlanner};
 use serde::{Deserialize, Serialize};
 
-use crate::error::{PerformanceError, Result, SynthError};
-use crate::note_serde::NoteRecord;
-
-/// One played note. In JSON the fingering's fields sit beside the times, as in
-/// `analysis.json`: `{"onset_s", "offset_s", "midi", "string", "position", "finger"}`
-/// (the three fingering fields all present, or all absent).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(try_from = "NoteRecord", into = "NoteRecord")]
-pub struct PlayedNote {
-    /// Start, seconds.
-    pub onset_s: f64,
-    /// End, seconds (after the onset).
-    pub offset_s: f64,
-    /// MIDI pitch (60 = C4).
-    pub midi: u8,
-    /// Where the note is played, when known (see [`Performance::with_fingering`]).
-    pub fingering: Option<Fingering>,
-}
-
-impl PlayedNote {
-    /// A note without fingering.
-    pub fn new(onset_s: f64, offset_s: f64, midi: u8) -> PlayedNote {
-        PlayedNote {
-            onset_s,
-            offset_s,
-            midi,
-            fingering: None,
-        }
-    }
-}
-
-/// Musical arousal over time (DEAM convention): `values[i]` at `i / rate_hz` seconds, each
-/// in [-1, 1] (calm … excited).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct ArousalCurve {
-    /// Values per second (2 for DEAM and the emotion network).
-    pub rate_hz: f64,
-    /// The values, in [-1, 1].
-    pub values: Vec<f32>,
-}
-
-impl ArousalCurve {
-    /// The rate of the emotion network's output and of DEAM annotations.
-    pub const DEAM_RATE_HZ: f64 = 2.0;
-
-    /// A curve at [`ArousalCurve::DEAM_RATE_HZ`].
-    pub fn deam(values: Vec<f32>) -> ArousalCurve {
-        ArousalCurve {
-            rate_hz: Self::DEAM_RATE_HZ,
-            values,
-        }
-    }
-
-    /// A curve whose finite values are clipped to [-1, 1] (NaN stays NaN and is rejected by
-    /// [`Performance::new`]).
-    ///
-    /// ```
-    /// let c = motion_synth::ArousalCurve::clamped(2.0, vec![-3.0, 0.5, 7.0]);
-    /// assert_eq!(c.values, vec![-1.0, 0.5, 1.0]);
-    /// ```
-    pub fn clamped(rate_hz: f64, values: Vec<f32>) -> ArousalCurve {
-        ArousalCurve {
-            rate_hz,
-            values: values.into_iter().map(|v| v.clamp(-1.0, 1.0)).collect(),
-        }
-    }
-
-    /// Time of value `index`, seconds.
-    pub fn time_s(&self, index: usize) -> f64 {
-        index as f64 / self.rate_hz
-    }
-}
+use crate::arousal::ArousalCurve;
+use crate::error::{PerformanceError, PerformanceFileError};
+use crate::note::Note;
+use crate::validate::{check_notes, check_times};
 
 /// The unvalidated fields of a [`Performance`] (also its JSON form).
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
@@ -84,7 +16,7 @@ pub struct PerformanceParts {
     /// Length of the performance, seconds.
     pub duration_s: f64,
     /// Notes in onset order.
-    pub notes: Vec<PlayedNote>,
+    pub notes: Vec<Note>,
     /// Instants where the bow reverses, seconds, increasing.
     #[serde(default)]
     pub bow_changes_s: Vec<f64>,
@@ -122,7 +54,7 @@ pub struct PerformanceParts {
 /// `tempo_bpm`, …) are ignored, so an analysis file reads as a performance.
 ///
 /// ```
-/// use motion_synth::{ArousalCurve, Performance};
+/// use performance::{ArousalCurve, Performance};
 /// let perf = Performance::builder(2.0)
 ///     .note(0.0, 1.0, 67)
 ///     .note(1.0, 2.0, 71)
@@ -133,7 +65,7 @@ pub struct PerformanceParts {
 ///     .build()?;
 /// assert_eq!(perf.notes().len(), 2);
 /// assert!(Performance::builder(0.0).note(0.0, 1.0, 60).build().is_err());
-/// # Ok::<(), motion_synth::PerformanceError>(())
+/// # Ok::<(), performance::PerformanceError>(())
 /// ```
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(try_from = "PerformanceParts", into = "PerformanceParts")]
@@ -141,93 +73,9 @@ pub struct Performance {
     parts: PerformanceParts,
 }
 
-fn check_times(
-    field: &'static str,
-    times: &[f64],
-    duration_s: f64,
-) -> std::result::Result<(), PerformanceError> {
-    for (index, &value) in times.iter().enumerate() {
-        if !value.is_finite() {
-            return Err(PerformanceError::NonFinite {
-                field,
-                index,
-                value,
-            });
-        }
-        if !(0.0..=duration_s).contains(&value) {
-            return Err(PerformanceError::OutOfRange {
-                field,
-                index,
-                value,
-                duration_s,
-            });
-        }
-        if index > 0 && value <= times[index - 1] {
-            return Err(PerformanceError::Unsorted {
-                field,
-                index,
-                value,
-            });
-        }
-    }
-    Ok(())
-}
-
-fn check_notes(
-    notes: &mut [PlayedNote],
-    duration_s: f64,
-) -> std::result::Result<(), PerformanceError> {
-    for (index, n) in notes.iter().enumerate() {
-        for (field, value) in [("notes.onset_s", n.onset_s), ("notes.offset_s", n.offset_s)] {
-            if !value.is_finite() {
-                return Err(PerformanceError::NonFinite {
-                    field,
-                    index,
-                    value,
-                });
-            }
-            if !(0.0..=duration_s).contains(&value) {
-                return Err(PerformanceError::OutOfRange {
-                    field,
-                    index,
-                    value,
-                    duration_s,
-                });
-            }
-        }
-        if n.offset_s <= n.onset_s {
-            return Err(PerformanceError::EmptyNote {
-                index,
-                onset_s: n.onset_s,
-                offset_s: n.offset_s,
-            });
-        }
-        if n.midi > 127 {
-            return Err(PerformanceError::InvalidMidi {
-                index,
-                midi: n.midi,
-            });
-        }
-        if index > 0 && n.onset_s <= notes[index - 1].onset_s {
-            return Err(PerformanceError::Unsorted {
-                field: "notes.onset_s",
-                index,
-                value: n.onset_s,
-            });
-        }
-    }
-    // Monophonic line: a new note ends the previous one.
-    for i in 1..notes.len() {
-        let next_onset = notes[i].onset_s;
-        let prev = &mut notes[i - 1];
-        prev.offset_s = prev.offset_s.min(next_onset);
-    }
-    Ok(())
-}
-
 impl Performance {
     /// Validates `parts` (see the type's rules) and trims overlapping notes.
-    pub fn new(mut parts: PerformanceParts) -> std::result::Result<Performance, PerformanceError> {
+    pub fn new(mut parts: PerformanceParts) -> Result<Performance, PerformanceError> {
         let d = parts.duration_s;
         if !(d.is_finite() && d > 0.0) {
             return Err(PerformanceError::InvalidDuration { duration_s: d });
@@ -286,13 +134,13 @@ impl Performance {
     }
 
     /// Reads a performance (or an `analysis.json`) from a JSON file.
-    pub fn read_json(path: impl AsRef<Path>) -> Result<Performance> {
+    pub fn read_json(path: impl AsRef<Path>) -> Result<Performance, PerformanceFileError> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|source| SynthError::Io {
+        let text = std::fs::read_to_string(path).map_err(|source| PerformanceFileError::Io {
             path: path.to_path_buf(),
             source,
         })?;
-        serde_json::from_str(&text).map_err(|e| SynthError::PerformanceFile {
+        serde_json::from_str(&text).map_err(|e| PerformanceFileError::Parse {
             path: path.to_path_buf(),
             reason: e.to_string(),
         })
@@ -304,7 +152,7 @@ impl Performance {
     }
 
     /// The notes, in onset order, not overlapping.
-    pub fn notes(&self) -> &[PlayedNote] {
+    pub fn notes(&self) -> &[Note] {
         &self.parts.notes
     }
 
@@ -353,14 +201,17 @@ impl Performance {
     /// filled notes are planned in context.
     ///
     /// ```
-    /// use motion_synth::Performance;
+    /// use performance::Performance;
     /// use fingering::OptimalPlanner;
     /// let perf = Performance::builder(1.0).note(0.0, 0.5, 55).note(0.5, 1.0, 76).build()?;
     /// let fingered = perf.with_fingering(&OptimalPlanner::default())?;
     /// assert!(fingered.is_fingered());
-    /// # Ok::<(), motion_synth::SynthError>(())
+    /// # Ok::<(), fingering::FingeringError>(())
     /// ```
-    pub fn with_fingering<P: FingeringPlanner + ?Sized>(&self, planner: &P) -> Result<Performance> {
+    pub fn with_fingering<P: FingeringPlanner + ?Sized>(
+        &self,
+        planner: &P,
+    ) -> Result<Performance, FingeringError> {
         let midi: Vec<u8> = self.parts.notes.iter().map(|n| n.midi).collect();
         let plan = planner.plan(&midi)?;
         let mut out = self.clone();
@@ -373,7 +224,7 @@ impl Performance {
 
 impl TryFrom<PerformanceParts> for Performance {
     type Error = PerformanceError;
-    fn try_from(parts: PerformanceParts) -> std::result::Result<Performance, PerformanceError> {
+    fn try_from(parts: PerformanceParts) -> Result<Performance, PerformanceError> {
         Performance::new(parts)
     }
 }
@@ -393,23 +244,21 @@ pub struct PerformanceBuilder {
 impl PerformanceBuilder {
     /// Adds a note without fingering.
     pub fn note(mut self, onset_s: f64, offset_s: f64, midi: u8) -> Self {
-        self.parts
-            .notes
-            .push(PlayedNote::new(onset_s, offset_s, midi));
+        self.parts.notes.push(Note::new(onset_s, offset_s, midi));
         self
     }
 
     /// Adds a note with its fingering.
     pub fn fingered_note(mut self, onset_s: f64, offset_s: f64, midi: u8, f: Fingering) -> Self {
-        self.parts.notes.push(PlayedNote {
+        self.parts.notes.push(Note {
             fingering: Some(f),
-            ..PlayedNote::new(onset_s, offset_s, midi)
+            ..Note::new(onset_s, offset_s, midi)
         });
         self
     }
 
     /// Replaces the notes.
-    pub fn notes(mut self, notes: Vec<PlayedNote>) -> Self {
+    pub fn notes(mut self, notes: Vec<Note>) -> Self {
         self.parts.notes = notes;
         self
     }
@@ -445,7 +294,7 @@ impl PerformanceBuilder {
     }
 
     /// Validates and builds.
-    pub fn build(self) -> std::result::Result<Performance, PerformanceError> {
+    pub fn build(self) -> Result<Performance, PerformanceError> {
         Performance::new(self.parts)
     }
 }

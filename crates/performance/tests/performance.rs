@@ -1,11 +1,9 @@
 //! Performance validation: bad inputs give typed errors; JSON round trips.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use motion_synth::{
-    synthesize, ArousalCurve, Performance, PerformanceError, SynthConfig, SynthError,
-};
+use performance::{ArousalCurve, Performance, PerformanceError, PerformanceFileError};
 
-fn base() -> motion_synth::PerformanceBuilder {
+fn base() -> performance::PerformanceBuilder {
     Performance::builder(3.0)
         .note(0.0, 1.0, 67)
         .note(1.0, 2.0, 69)
@@ -184,33 +182,8 @@ fn read_json_names_the_file() {
     let path = dir.path().join("perf.json");
     std::fs::write(&path, "{\"duration_s\": 1, \"notes\": [").unwrap();
     let e = Performance::read_json(&path).unwrap_err();
-    assert!(matches!(e, SynthError::PerformanceFile { .. }));
+    assert!(matches!(e, PerformanceFileError::Parse { .. }));
     assert!(e.to_string().contains("perf.json"));
     let e = Performance::read_json(dir.path().join("missing.json")).unwrap_err();
-    assert!(matches!(e, SynthError::Io { .. }));
-}
-
-#[test]
-fn bad_configs_are_rejected() {
-    let p = base().build().unwrap();
-    let cfg = SynthConfig {
-        fps: 0.0,
-        ..SynthConfig::default()
-    };
-    assert!(matches!(
-        synthesize(&p, &cfg),
-        Err(SynthError::InvalidConfig(_))
-    ));
-    let mut cfg = SynthConfig::default();
-    cfg.camera.focal_px = f64::NAN;
-    assert!(matches!(
-        synthesize(&p, &cfg),
-        Err(SynthError::InvalidConfig(_))
-    ));
-    let mut cfg = SynthConfig::default();
-    cfg.bow.resolution = 1;
-    assert!(matches!(
-        synthesize(&p, &cfg),
-        Err(SynthError::InvalidConfig(_))
-    ));
+    assert!(matches!(e, PerformanceFileError::Io { .. }));
 }

@@ -12,14 +12,15 @@
 //!   velocity is within 20 of the previous one; every other note starts a new stroke;
 //! * beats from the tempo map (quarter notes; dotted quarters in 6/8, 9/8, 12/8) and
 //!   downbeats from the time signature (4/4 when the file has none);
-//! * dynamics from velocity (v / 127); arousal from [`crate::timing::arousal_proxy`].
+//! * dynamics from velocity (v / 127); arousal from [`crate::arousal_proxy`].
 
 use std::path::{Path, PathBuf};
 
 use midly::{MetaMessage, MidiMessage, Smf, Timing, TrackEventKind};
 
-use crate::error::CorpusError;
-use crate::timing::{arousal_proxy, TimedNote, Timeline};
+use crate::error::MidiError;
+use crate::note::Note;
+use crate::timeline::{arousal_proxy, TimedNote, Timeline};
 
 const CHORD_S: f64 = 0.03;
 const LEGATO_GAP_S: f64 = 0.03;
@@ -28,23 +29,20 @@ const LOWEST: u8 = 55;
 const HIGHEST: u8 = 105;
 
 /// Reads a MIDI file into a [`Timeline`].
-pub fn timeline_from_midi_file(path: impl AsRef<Path>) -> Result<Timeline, CorpusError> {
+pub fn timeline_from_midi_file(path: impl AsRef<Path>) -> Result<Timeline, MidiError> {
     let path = path.as_ref();
-    let bytes = std::fs::read(path).map_err(|e| CorpusError::Midi {
+    let bytes = std::fs::read(path).map_err(|e| MidiError {
         path: path.into(),
         reason: format!("cannot read ({e})"),
     })?;
-    timeline_from_midi(&bytes).map_err(|e| match e {
-        CorpusError::Midi { reason, .. } => CorpusError::Midi {
-            path: path.into(),
-            reason,
-        },
-        other => other,
+    timeline_from_midi(&bytes).map_err(|e| MidiError {
+        path: path.into(),
+        reason: e.reason,
     })
 }
 
-fn midi_err(reason: impl Into<String>) -> CorpusError {
-    CorpusError::Midi {
+fn midi_err(reason: impl Into<String>) -> MidiError {
+    MidiError {
         path: PathBuf::from("<memory>"),
         reason: reason.into(),
     }
@@ -84,7 +82,7 @@ impl TempoMap {
 }
 
 /// Parses MIDI bytes (SMF format 0/1/2, or RIFF-wrapped) into a [`Timeline`].
-pub fn timeline_from_midi(bytes: &[u8]) -> Result<Timeline, CorpusError> {
+pub fn timeline_from_midi(bytes: &[u8]) -> Result<Timeline, MidiError> {
     let smf = Smf::parse(bytes).map_err(|e| {
         midi_err(format!(
             "not a MIDI file ({e}); export a Standard MIDI File (.mid)"
@@ -181,7 +179,7 @@ pub fn timeline_from_midi(bytes: &[u8]) -> Result<Timeline, CorpusError> {
         k += 1;
     }
     let notes = assign_bowing(notes, &downbeats_s);
-    let duration_s = notes.last().map_or(0.0, |n| n.offset_s) + TAIL_S;
+    let duration_s = notes.last().map_or(0.0, |n| n.note.offset_s) + TAIL_S;
     let arousal_2hz = arousal_proxy(&notes, duration_s);
     Ok(Timeline {
         duration_s,
@@ -200,11 +198,11 @@ fn reduce_to_line(raw: &[(u64, u64, u8, u8)], map: &TempoMap) -> Vec<TimedNote> 
         let onset_s = map.seconds(on);
         let offset_s = map.seconds(off);
         if let Some(prev) = out.last_mut() {
-            if onset_s - prev.onset_s < CHORD_S {
+            if onset_s - prev.note.onset_s < CHORD_S {
                 continue; // lower note of a chord (sorted highest first)
             }
-            if prev.offset_s > onset_s {
-                prev.offset_s = onset_s;
+            if prev.note.offset_s > onset_s {
+                prev.note.offset_s = onset_s;
             }
         }
         let mut midi = key;
@@ -215,13 +213,10 @@ fn reduce_to_line(raw: &[(u64, u64, u8, u8)], map: &TempoMap) -> Vec<TimedNote> 
             midi -= 12;
         }
         out.push(TimedNote {
-            onset_s,
-            offset_s,
-            midi,
+            note: Note::new(onset_s, offset_s, midi),
             bow_change: true,
             dynamic: f32::from(vel) / 127.0,
             accent: false,
-            fingering: None,
         });
     }
     out
@@ -233,14 +228,14 @@ fn assign_bowing(mut notes: Vec<TimedNote>, downbeats_s: &[f64]) -> Vec<TimedNot
     for i in 0..notes.len() {
         let on_downbeat = downbeats_s
             .iter()
-            .any(|d| (d - notes[i].onset_s).abs() < 0.02);
+            .any(|d| (d - notes[i].note.onset_s).abs() < 0.02);
         let slurred = i > 0 && {
             let prev = &notes[i - 1];
             let cur = &notes[i];
-            let short = cur.offset_s - cur.onset_s < 0.2;
-            cur.onset_s - prev.offset_s < LEGATO_GAP_S
+            let short = cur.note.offset_s - cur.note.onset_s < 0.2;
+            cur.note.onset_s - prev.note.offset_s < LEGATO_GAP_S
                 && slur_len < if short { 8 } else { 4 }
-                && cur.offset_s - stroke_start < 2.0
+                && cur.note.offset_s - stroke_start < 2.0
                 && !on_downbeat
                 && (cur.dynamic - prev.dynamic).abs() * 127.0 <= 20.0
         };
@@ -248,7 +243,7 @@ fn assign_bowing(mut notes: Vec<TimedNote>, downbeats_s: &[f64]) -> Vec<TimedNot
             slur_len += 1;
         } else {
             slur_len = 1;
-            stroke_start = notes[i].onset_s;
+            stroke_start = notes[i].note.onset_s;
         }
         notes[i].bow_change = !slurred;
         notes[i].accent = on_downbeat && !slurred;
@@ -327,9 +322,9 @@ mod tests {
     fn notes_timing_bowing_and_bars() {
         let t = timeline_from_midi(&file()).unwrap();
         assert_eq!(t.notes.len(), 10);
-        assert!((t.notes[1].onset_s - 0.6).abs() < 1e-9);
-        assert_eq!(t.notes[9].midi, 55); // G2 moved into range
-                                         // Détaché quarters: three strokes; legato eighths slurred after the bar's first note.
+        assert!((t.notes[1].note.onset_s - 0.6).abs() < 1e-9);
+        assert_eq!(t.notes[9].note.midi, 55); // G2 moved into range
+                                              // Détaché quarters: three strokes; legato eighths slurred after the bar's first note.
         let changes: Vec<bool> = t.notes.iter().map(|n| n.bow_change).collect();
         assert_eq!(changes[..3], [true, true, true]);
         assert!(changes[3] && !changes[4] && !changes[5]);
@@ -343,7 +338,7 @@ mod tests {
     fn bad_files_are_errors() {
         assert!(matches!(
             timeline_from_midi(b"not midi"),
-            Err(CorpusError::Midi { .. })
+            Err(MidiError { .. })
         ));
         let empty = Smf {
             header: Header::new(Format::SingleTrack, Timing::Metrical(u15::new(480))),

@@ -1,11 +1,52 @@
-//! The JSON form of a played note: fingering fields flattened beside the times, strictly
+//! [`Note`]: the one note type of the workspace — when it sounds, its pitch and, when known,
+//! where it is played. Its JSON form puts the fingering fields beside the times, strictly
 //! all-or-none (serde's `flatten` on an `Option` would silently drop a malformed fingering).
 
 use fingering::{Fingering, Placement, ViolinString};
 use serde::{Deserialize, Serialize};
 
 use crate::error::PerformanceError;
-use crate::performance::PlayedNote;
+
+/// One note: onset and offset in seconds, MIDI pitch and (when known) its fingering. In JSON
+/// the fingering's fields sit beside the times, as in `analysis.json`:
+/// `{"onset_s", "offset_s", "midi", "string", "position", "finger"}` (the three fingering
+/// fields all present, or all absent; `"placement": "low" | "high"` when the finger is not in
+/// its normal place).
+///
+/// ```
+/// let n = performance::Note::new(0.5, 1.0, 67);
+/// assert_eq!(serde_json::to_string(&n)?, r#"{"onset_s":0.5,"offset_s":1.0,"midi":67}"#);
+/// # Ok::<(), serde_json::Error>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "NoteRecord", into = "NoteRecord")]
+pub struct Note {
+    /// Start, seconds.
+    pub onset_s: f64,
+    /// End, seconds (after the onset).
+    pub offset_s: f64,
+    /// MIDI pitch (60 = C4).
+    pub midi: u8,
+    /// Where the note is played, when known (see [`crate::Performance::with_fingering`]).
+    pub fingering: Option<Fingering>,
+}
+
+impl Note {
+    /// A note without fingering.
+    pub fn new(onset_s: f64, offset_s: f64, midi: u8) -> Note {
+        Note {
+            onset_s,
+            offset_s,
+            midi,
+            fingering: None,
+        }
+    }
+
+    /// Length in seconds.
+    pub fn duration_s(&self) -> f64 {
+        self.offset_s - self.onset_s
+    }
+}
 
 /// A note as it appears in `analysis.json` and performance files.
 #[derive(Debug, Clone, Copy, Serialize, Deserialize)]
@@ -23,9 +64,9 @@ pub(crate) struct NoteRecord {
     placement: Option<Placement>,
 }
 
-impl TryFrom<NoteRecord> for PlayedNote {
+impl TryFrom<NoteRecord> for Note {
     type Error = PerformanceError;
-    fn try_from(r: NoteRecord) -> Result<PlayedNote, PerformanceError> {
+    fn try_from(r: NoteRecord) -> Result<Note, PerformanceError> {
         let fingering = match (r.string, r.position, r.finger) {
             (Some(string), Some(position), Some(finger)) => Some(Fingering::with_placement(
                 string,
@@ -37,7 +78,7 @@ impl TryFrom<NoteRecord> for PlayedNote {
             // serde reports where in the file the note is.
             _ => return Err(PerformanceError::PartialFingering),
         };
-        Ok(PlayedNote {
+        Ok(Note {
             onset_s: r.onset_s,
             offset_s: r.offset_s,
             midi: r.midi,
@@ -46,8 +87,8 @@ impl TryFrom<NoteRecord> for PlayedNote {
     }
 }
 
-impl From<PlayedNote> for NoteRecord {
-    fn from(n: PlayedNote) -> NoteRecord {
+impl From<Note> for NoteRecord {
+    fn from(n: Note) -> NoteRecord {
         let f = n.fingering;
         NoteRecord {
             onset_s: n.onset_s,
@@ -67,28 +108,27 @@ mod tests {
 
     #[test]
     fn fingering_fields_sit_beside_the_times() {
-        let n = PlayedNote {
+        let n = Note {
             fingering: Some(Fingering::new(ViolinString::D, 1, 3)),
-            ..PlayedNote::new(0.5, 1.0, 67)
+            ..Note::new(0.5, 1.0, 67)
         };
         let text = serde_json::to_string(&n).unwrap();
         assert_eq!(
             text,
             r#"{"onset_s":0.5,"offset_s":1.0,"midi":67,"string":2,"position":1,"finger":3}"#
         );
-        assert_eq!(serde_json::from_str::<PlayedNote>(&text).unwrap(), n);
-        let bare: PlayedNote =
-            serde_json::from_str(r#"{"onset_s":0,"offset_s":1,"midi":60}"#).unwrap();
+        assert_eq!(serde_json::from_str::<Note>(&text).unwrap(), n);
+        let bare: Note = serde_json::from_str(r#"{"onset_s":0,"offset_s":1,"midi":60}"#).unwrap();
         assert_eq!(bare.fingering, None);
     }
 
     #[test]
     fn partial_or_bad_fingering_is_an_error() {
         let partial = r#"{"onset_s":0,"offset_s":1,"midi":60,"string":2}"#;
-        let e = serde_json::from_str::<PlayedNote>(partial).unwrap_err();
+        let e = serde_json::from_str::<Note>(partial).unwrap_err();
         assert!(e.to_string().contains("part of its fingering"), "{e}");
         let bad_string =
             r#"{"onset_s":0,"offset_s":1,"midi":60,"string":7,"position":1,"finger":1}"#;
-        assert!(serde_json::from_str::<PlayedNote>(bad_string).is_err());
+        assert!(serde_json::from_str::<Note>(bad_string).is_err());
     }
 }

@@ -1,0 +1,85 @@
+//! The checks of [`crate::Performance::new`] on lists of times and on notes.
+
+use crate::error::PerformanceError;
+use crate::note::Note;
+
+pub(crate) fn check_times(
+    field: &'static str,
+    times: &[f64],
+    duration_s: f64,
+) -> Result<(), PerformanceError> {
+    for (index, &value) in times.iter().enumerate() {
+        if !value.is_finite() {
+            return Err(PerformanceError::NonFinite {
+                field,
+                index,
+                value,
+            });
+        }
+        if !(0.0..=duration_s).contains(&value) {
+            return Err(PerformanceError::OutOfRange {
+                field,
+                index,
+                value,
+                duration_s,
+            });
+        }
+        if index > 0 && value <= times[index - 1] {
+            return Err(PerformanceError::Unsorted {
+                field,
+                index,
+                value,
+            });
+        }
+    }
+    Ok(())
+}
+
+pub(crate) fn check_notes(notes: &mut [Note], duration_s: f64) -> Result<(), PerformanceError> {
+    for (index, n) in notes.iter().enumerate() {
+        for (field, value) in [("notes.onset_s", n.onset_s), ("notes.offset_s", n.offset_s)] {
+            if !value.is_finite() {
+                return Err(PerformanceError::NonFinite {
+                    field,
+                    index,
+                    value,
+                });
+            }
+            if !(0.0..=duration_s).contains(&value) {
+                return Err(PerformanceError::OutOfRange {
+                    field,
+                    index,
+                    value,
+                    duration_s,
+                });
+            }
+        }
+        if n.offset_s <= n.onset_s {
+            return Err(PerformanceError::EmptyNote {
+                index,
+                onset_s: n.onset_s,
+                offset_s: n.offset_s,
+            });
+        }
+        if n.midi > 127 {
+            return Err(PerformanceError::InvalidMidi {
+                index,
+                midi: n.midi,
+            });
+        }
+        if index > 0 && n.onset_s <= notes[index - 1].onset_s {
+            return Err(PerformanceError::Unsorted {
+                field: "notes.onset_s",
+                index,
+                value: n.onset_s,
+            });
+        }
+    }
+    // Monophonic line: a new note ends the previous one.
+    for i in 1..notes.len() {
+        let next_onset = notes[i].onset_s;
+        let prev = &mut notes[i - 1];
+        prev.offset_s = prev.offset_s.min(next_onset);
+    }
+    Ok(())
+}
