@@ -38,7 +38,6 @@ pub mod eval;
 pub mod level;
 pub mod meter;
 mod onset;
-mod pair_fft;
 mod peaks;
 mod spectrum;
 mod tempo;
