@@ -32,11 +32,13 @@
 //! ```
 
 mod bar_features;
+mod beat_config;
 mod dp;
 mod error;
 pub mod eval;
 pub mod level;
 pub mod meter;
+mod meter_config;
 mod onset;
 mod peaks;
 mod spectrum;
@@ -44,6 +46,7 @@ mod tempo;
 mod tracker;
 
 pub use bar_features::{BarEvidence, BeatFeatures};
+pub use beat_config::{BeatAnalysis, BeatConfig};
 pub use dp::{track_beats, track_beats_with};
 pub use error::{BeatError, Result};
 pub use level::{LevelCandidate, LevelConfig, LevelFeatures, LevelWeights, TempogramPeak};
@@ -52,4 +55,4 @@ pub use onset::{Aggregate, OnsetConfig, OnsetEnvelope, OnsetStrength};
 pub use peaks::{onset_detect, peak_pick, PeakPick};
 pub use pitch_track::synth;
 pub use tempo::{estimate_tempo, mean_tempogram, mean_tempogram_strided, TempoConfig};
-pub use tracker::{BeatAnalysis, BeatConfig, BeatTracker};
+pub use tracker::BeatTracker;
