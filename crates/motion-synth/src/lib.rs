@@ -39,10 +39,10 @@
 
 pub mod body;
 pub mod bow;
-pub mod bvh;
+pub use skeleton::formats::bvh;
 mod camera;
 mod error;
-pub mod geometry;
+pub use skeleton::geometry;
 pub mod ik;
 pub mod interp;
 pub mod left_hand;

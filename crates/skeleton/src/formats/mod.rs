@@ -1,4 +1,5 @@
-//! Motion files: JSON, CSV, NPY and OpenPose directories, each read and written.
+//! Motion files: JSON, CSV, NPY and OpenPose directories, each read and written, and BVH
+//! export of the 3-D track with a parser that checks it ([`bvh`]).
 //!
 //! | format | what | read | write |
 //! |---|---|---|---|
@@ -31,6 +32,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+pub mod bvh;
 mod check;
 mod csv;
 mod files;

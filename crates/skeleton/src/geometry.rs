@@ -1,6 +1,6 @@
-//! Small 3-D vector and rotation-matrix types (f64) for the rig.
+//! Small 3-D vector and rotation-matrix types (f64) for 3-D motion (motion-synth's rig, BVH).
 //!
-//! World frame of the rig: metres, x to the player's left, y up, z forward (the way the
+//! World frame: metres, x to the player's left, y up, z forward (the way the
 //! player faces). Rotation matrices act on column vectors.
 
 use std::ops::{Add, Mul, Neg, Sub};
