@@ -39,6 +39,8 @@
 
 pub mod body;
 pub mod bow;
+mod bow_profile;
+mod bow_stroke;
 pub use skeleton::formats::bvh;
 mod camera;
 mod error;
