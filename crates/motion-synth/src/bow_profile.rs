@@ -2,7 +2,7 @@
 //! and out at `reversal_speed` × cruise along smoothstep ramps.
 
 use crate::bow_stroke::{BowPolicy, BowStroke};
-use skeleton::geometry::smoothstep;
+use crate::geometry::smoothstep;
 
 /// Share of the stroke covered at `u` ∈ [0, 1] under the eased speed profile.
 fn eased(u: f64, e: f64, r: f64) -> f64 {

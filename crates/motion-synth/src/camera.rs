@@ -1,6 +1,6 @@
 //! A pinhole camera that turns the rig's world points into image pixels (y down).
 
-use skeleton::geometry::Vec3;
+use crate::geometry::Vec3;
 
 /// A pinhole camera. The default looks at the player from the front, 10° round towards
 /// the player's right (so the violin, which points forward-left, is seen nearly side-on),

@@ -1,6 +1,6 @@
 //! Two-link inverse kinematics (shoulder → elbow → wrist) with a pole direction.
 
-use skeleton::geometry::Vec3;
+use crate::geometry::Vec3;
 
 /// Result of [`two_link`].
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -10,7 +10,7 @@
 use fingering::{Fingering, FingeringPlanner, OptimalPlanner};
 
 use crate::error::Result;
-use skeleton::geometry::smoothstep;
+use crate::geometry::smoothstep;
 use crate::performance::PlayedNote;
 
 /// Glide lengths of the left hand and of string crossings.

@@ -44,7 +44,7 @@ mod bow_stroke;
 pub use skeleton::formats::bvh;
 mod camera;
 mod error;
-pub use skeleton::geometry;
+pub mod geometry;
 pub mod ik;
 pub mod interp;
 pub mod left_hand;

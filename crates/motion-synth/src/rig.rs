@@ -9,7 +9,7 @@
 
 use skeleton::{InstrumentPoint, Joint, JOINT_COUNT};
 
-use skeleton::geometry::{Mat3, Vec3};
+use crate::geometry::{Mat3, Vec3};
 use crate::ik::two_link;
 
 /// The violin's place and shape (metres, degrees). It lies on the left collarbone with its
