@@ -109,7 +109,9 @@ fn every_crate_depends_only_on_lower_layers() {
     }
     for (name, _) in LAYERS {
         if !deps.contains_key(*name) {
-            wrong.push(format!("{name} is in the layer table but not in the workspace"));
+            wrong.push(format!(
+                "{name} is in the layer table but not in the workspace"
+            ));
         }
     }
     assert!(wrong.is_empty(), "layer violations:\n{}", wrong.join("\n"));
@@ -135,7 +137,11 @@ fn forbidden_dependencies_are_absent() {
     forbid("pitch-track", "beat-track");
     forbid("beat-track", "pitch-track");
     forbid("net-core", "corpus");
-    assert!(wrong.is_empty(), "forbidden dependencies:\n{}", wrong.join("\n"));
+    assert!(
+        wrong.is_empty(),
+        "forbidden dependencies:\n{}",
+        wrong.join("\n")
+    );
 }
 
 #[test]
@@ -151,7 +157,13 @@ fn the_facade_by_default_compiles_no_training_corpus_or_soundfont() {
         "--offline",
     ]);
     let names: BTreeSet<&str> = tree.lines().filter_map(|l| l.split(' ').next()).collect();
-    for banned in ["corpus", "rustysynth", "violin-train", "midly", "pose-preproc"] {
+    for banned in [
+        "corpus",
+        "rustysynth",
+        "violin-train",
+        "midly",
+        "pose-preproc",
+    ] {
         assert!(
             !names.contains(banned),
             "the facade's default features compile {banned}"
@@ -206,19 +218,32 @@ fn only_dsp_mel_plans_ffts() {
 fn no_source_file_is_over_450_lines() {
     let mut long = Vec::new();
     for file in rust_files() {
-        let n = std::fs::read_to_string(&file).expect("readable").lines().count();
+        let n = std::fs::read_to_string(&file)
+            .expect("readable")
+            .lines()
+            .count();
         if n > 450 {
-            long.push(format!("{} ({n} lines)", file.strip_prefix(root()).expect("root").display()));
+            long.push(format!(
+                "{} ({n} lines)",
+                file.strip_prefix(root()).expect("root").display()
+            ));
         }
     }
-    assert!(long.is_empty(), "files over 450 lines:\n{}", long.join("\n"));
+    assert!(
+        long.is_empty(),
+        "files over 450 lines:\n{}",
+        long.join("\n")
+    );
 }
 
 #[test]
 fn no_two_files_import_each_other() {
     let mut pairs = Vec::new();
     let mut src_dirs = vec![root().join("src")];
-    for e in std::fs::read_dir(root().join("crates")).expect("crates/").flatten() {
+    for e in std::fs::read_dir(root().join("crates"))
+        .expect("crates/")
+        .flatten()
+    {
         src_dirs.push(e.path().join("src"));
     }
     for dir in src_dirs {
@@ -226,5 +251,9 @@ fn no_two_files_import_each_other() {
             pairs.push(format!("{} ⇄ {}", a.display(), b.display()));
         }
     }
-    assert!(pairs.is_empty(), "files that import each other:\n{}", pairs.join("\n"));
+    assert!(
+        pairs.is_empty(),
+        "files that import each other:\n{}",
+        pairs.join("\n")
+    );
 }

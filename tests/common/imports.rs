@@ -27,7 +27,10 @@ fn module_path(src: &Path, file: &Path) -> ModPath {
         .iter()
         .map(|p| p.to_string_lossy().trim_end_matches(".rs").to_string())
         .collect();
-    if matches!(parts.last().map(String::as_str), Some("mod" | "lib" | "main")) {
+    if matches!(
+        parts.last().map(String::as_str),
+        Some("mod" | "lib" | "main")
+    ) {
         parts.pop();
     }
     parts
@@ -39,7 +42,9 @@ fn code_of(text: &str) -> String {
     let mut end = lines.len();
     for (i, l) in lines.iter().enumerate() {
         if l.trim() == "#[cfg(test)]"
-            && lines.get(i + 1).is_some_and(|n| n.trim_start().starts_with("mod "))
+            && lines
+                .get(i + 1)
+                .is_some_and(|n| n.trim_start().starts_with("mod "))
         {
             end = i;
             break;
