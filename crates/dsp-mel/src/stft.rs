@@ -26,8 +26,8 @@ mod sealed {
 }
 
 /// The precision an [`Stft`] (and a [`crate::MelSpectrogram`]) transforms in: `f64` (the
-/// networks' features) or `f32` (what librosa computes for `float32` audio, about twice as
-/// fast).
+/// networks' features) or `f32` (what librosa computes for `float32` audio; twice the
+/// values per SIMD register).
 pub trait StftFloat: FftNum + Float + sealed::Sealed {
     /// Widens (or keeps) a sample.
     fn widen(x: f32) -> Self;
