@@ -5,7 +5,7 @@ use serde::{Deserialize, Serialize};
 use performance::Note;
 
 use crate::level::has_event_near;
-use crate::meter::MeterConfig;
+use crate::meter_config::MeterConfig;
 use crate::onset::OnsetEnvelope;
 
 /// What, besides the audio, tells where bars begin: notes from `pitch-track` and bow

@@ -31,19 +31,21 @@
 //! ```
 
 mod bar_features;
+mod beat_config;
 mod dp;
 mod error;
 pub mod eval;
 pub mod level;
 pub mod meter;
+mod meter_config;
 mod onset;
-mod pair_fft;
 mod peaks;
 mod spectrum;
 mod tempo;
 mod tracker;
 
 pub use bar_features::{BarEvidence, BeatFeatures};
+pub use beat_config::{BeatAnalysis, BeatConfig};
 pub use dp::{track_beats, track_beats_with};
 pub use error::{BeatError, Result};
 pub use level::{LevelCandidate, LevelConfig, LevelFeatures, LevelWeights, TempogramPeak};
@@ -51,4 +53,4 @@ pub use meter::{estimate_meter, Meter, MeterConfig, MeterEstimate};
 pub use onset::{Aggregate, OnsetConfig, OnsetEnvelope, OnsetStrength};
 pub use peaks::{onset_detect, peak_pick, PeakPick};
 pub use tempo::{estimate_tempo, mean_tempogram, mean_tempogram_strided, TempoConfig};
-pub use tracker::{BeatAnalysis, BeatConfig, BeatTracker};
+pub use tracker::BeatTracker;

@@ -119,7 +119,7 @@ impl OnsetStrength {
         if let Some(index) = first_non_finite(samples) {
             return Err(BeatError::NonFinite { index });
         }
-        let db = self.mel.compute_db(samples);
+        let db = self.mel.compute_db(samples)?;
         let bands = self.mel.n_mels().max(1);
         let frames = db.len() / bands;
         let row = |t: usize| &db[t * bands..(t + 1) * bands];

@@ -6,13 +6,11 @@
 //! neighbouring 8 s windows differ by one frame in 344: the mean of such a slowly varying
 //! column is estimated as well from every [`TempoConfig::frame_stride`]-th window (the
 //! default 4 = 46 ms still averages ~86 windows per window length), at a quarter of the
-//! cost. Windows are transformed two at a time ([`crate::pair_fft`]).
+//! cost. Windows are transformed two at a time ([`dsp_mel::fft::PairFft`]).
 
+use dsp_mel::fft::{Complex, PairFft};
 use rayon::prelude::*;
-use rustfft::num_complex::Complex;
 use serde::{Deserialize, Serialize};
-
-use crate::pair_fft::PairFft;
 
 /// Windows per parallel task (even: windows go through the FFT in pairs).
 const WINDOWS_PER_TASK: usize = 128;
@@ -73,7 +71,7 @@ pub fn mean_tempogram_strided(envelope: &[f32], win_length: usize, stride: usize
     let window: Vec<f32> = (0..win_length)
         .map(|i| (0.5 - 0.5 * (std::f64::consts::TAU * i as f64 / win_length as f64).cos()) as f32)
         .collect();
-    let fft = PairFft::new(smooth_even_at_least(2 * win_length), true);
+    let fft = PairFft::<f32>::new(smooth_even_at_least(2 * win_length), true);
     let starts: Vec<usize> = (0..n).step_by(stride.max(1)).collect();
     let sums: Vec<Vec<f64>> = starts
         .par_chunks(WINDOWS_PER_TASK)

@@ -29,7 +29,7 @@ impl Audio {
         if samples.is_empty() {
             return Err(DspError::EmptyAudio);
         }
-        if let Some(index) = crate::mel::first_non_finite(&samples) {
+        if let Some(index) = crate::stft::first_non_finite(&samples) {
             return Err(DspError::NonFinite {
                 source_name: "<memory>".into(),
                 index,
@@ -103,15 +103,6 @@ pub fn load_audio(path: impl AsRef<Path>) -> Result<Audio> {
         samples,
         sample_rate_hz: reader.sample_rate_hz(),
     })
-}
-
-/// Decodes an audio file and resamples it to `rate`.
-pub fn load_audio_at(path: impl AsRef<Path>, rate: AnalysisRate) -> Result<Audio> {
-    let audio = load_audio(path)?;
-    match rate {
-        AnalysisRate::Native => Ok(audio),
-        AnalysisRate::Hz(hz) => crate::resample::resample(&audio, hz),
-    }
 }
 
 #[cfg(test)]

@@ -3,7 +3,9 @@
 //! The signal-processing ground of violin-skeleton: decode audio files to mono
 //! ([`load_audio`]), resample ([`resample`]), compute mel spectrograms that match
 //! `librosa.feature.melspectrogram` ([`MelSpectrogram`], [`MelConfig`]), convert to dB
-//! ([`power_to_db`]), and the scipy-equivalent [`filters`] used on pose tracks.
+//! ([`power_to_db`]), and the scipy-equivalent [`filters`] used on pose tracks. It is the
+//! workspace's only FFT planner: [`fft`] hands out planned transforms (complex, real, and
+//! two real frames per complex FFT), [`Stft`] is the one short-time power spectrum.
 //!
 //! ```
 //! use dsp_mel::{Audio, MelConfig, MelSpectrogram, DbConfig};
@@ -21,16 +23,25 @@ mod db;
 mod error;
 mod filterbank;
 mod mel;
+mod pair_fft;
 mod resample;
+mod stft;
 mod stream;
 
+pub mod fft;
 pub mod filters;
 
-pub use audio::{load_audio, load_audio_at, AnalysisRate, Audio, DEFAULT_ANALYSIS_RATE_HZ};
+pub use audio::{load_audio, AnalysisRate, Audio, DEFAULT_ANALYSIS_RATE_HZ};
 pub use config::{Hop, MelConfig, MelNorm, MelScale, Window};
 pub use db::{power_to_db, DbConfig, DbRef};
 pub use error::{DspError, Result};
 pub use filterbank::{hz_to_mel, mel_filterbank, mel_frequencies, mel_to_hz};
 pub use mel::{pool_frames, MelSpectrogram};
-pub use resample::resample;
+pub use resample::{load_audio_at, resample};
+pub use stft::{Stft, StftFloat};
 pub use stream::AudioReader;
+
+/// The README's example, compiled and run as a doctest.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

@@ -1,23 +1,20 @@
-//! STFT power spectrum → mel spectrogram, planned once and reused.
-
-use std::sync::Arc;
+//! Mel spectrogram: the workspace's STFT ([`crate::Stft`]) through a sparse mel filterbank,
+//! planned once and reused.
 
 use ndarray::Array2;
-use rayon::prelude::*;
-use rustfft::num_complex::Complex;
-use rustfft::{Fft, FftPlanner};
 
 use crate::config::MelConfig;
 use crate::db::{power_to_db, DbConfig};
 use crate::error::{DspError, Result};
 use crate::filterbank::{mel_filterbank, sparse_bands, SparseBand};
-
-/// Frames computed per parallel task (even: frames are transformed in pairs): big enough to
-/// amortise the scratch buffers, small enough to balance two or more cores.
-const FRAMES_PER_TASK: usize = 128;
+use crate::stft::{Stft, StftFloat};
 
 /// A planned mel spectrogram: the FFT plan, window and filterbank are built once by
 /// [`MelSpectrogram::new`] and reused by every [`MelSpectrogram::compute`].
+///
+/// The transform runs in `T`: `f64` by default ([`MelSpectrogram::new`], the networks'
+/// features and the librosa parity figures), `f32` through
+/// [`MelSpectrogram::with_precision`] (what librosa computes for `float32` audio).
 ///
 /// ```
 /// use dsp_mel::{MelConfig, MelSpectrogram};
@@ -25,18 +22,17 @@ const FRAMES_PER_TASK: usize = 128;
 /// let one_second = vec![0.0f32; 22_050];
 /// let s = mel.compute(&one_second)?;
 /// assert_eq!(s.dim(), (31, 128)); // 1 + len / hop frames (centred), 128 bands
+/// let fast = MelSpectrogram::<f32>::with_precision(MelConfig::bowing())?;
+/// assert_eq!(fast.compute(&one_second)?, s);
 /// # Ok::<(), dsp_mel::DspError>(())
 /// ```
-pub struct MelSpectrogram {
+pub struct MelSpectrogram<T: StftFloat = f64> {
     cfg: MelConfig,
-    hop: usize,
-    window: Vec<f64>,
     bands: Vec<SparseBand>,
-    /// Complex FFT of length `n_fft`; two real frames share one transform.
-    fft: Arc<dyn Fft<f64>>,
+    stft: Stft<T>,
 }
 
-impl std::fmt::Debug for MelSpectrogram {
+impl<T: StftFloat> std::fmt::Debug for MelSpectrogram<T> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("MelSpectrogram")
             .field("cfg", &self.cfg)
@@ -44,25 +40,27 @@ impl std::fmt::Debug for MelSpectrogram {
     }
 }
 
-impl MelSpectrogram {
-    /// Plans the FFT and builds the window and filterbank.
+impl MelSpectrogram<f64> {
+    /// Plans the FFT (double precision) and builds the window and filterbank.
     pub fn new(cfg: MelConfig) -> Result<Self> {
+        Self::with_precision(cfg)
+    }
+}
+
+impl<T: StftFloat> MelSpectrogram<T> {
+    /// Plans the FFT in precision `T` and builds the window and filterbank.
+    pub fn with_precision(cfg: MelConfig) -> Result<Self> {
         cfg.validate()?;
         let dense = mel_filterbank(&cfg)?;
         let bands = sparse_bands(&dense);
-        let fft = FftPlanner::<f64>::new().plan_fft_forward(cfg.n_fft);
-        Ok(Self {
-            hop: cfg.hop_length(),
-            window: cfg
-                .window
-                .coefficients(cfg.n_fft)
-                .into_iter()
-                .map(f64::from)
-                .collect(),
-            bands,
-            fft,
-            cfg,
-        })
+        let stft = Stft::new(
+            cfg.n_fft,
+            cfg.hop_length(),
+            cfg.window,
+            cfg.center,
+            cfg.power,
+        )?;
+        Ok(Self { cfg, bands, stft })
     }
 
     /// The configuration.
@@ -72,13 +70,7 @@ impl MelSpectrogram {
 
     /// Number of STFT frames for a signal of `len` samples (before pooling).
     pub fn n_stft_frames(&self, len: usize) -> usize {
-        if self.cfg.center {
-            1 + len / self.hop
-        } else if len >= self.cfg.n_fft {
-            1 + (len - self.cfg.n_fft) / self.hop
-        } else {
-            0
-        }
+        self.stft.n_frames(len)
     }
 
     /// Mel power spectrogram, shape `(frames, n_mels)`, frames in time order.
@@ -87,53 +79,11 @@ impl MelSpectrogram {
     /// still yields frames when `center` is on. Errors on empty or non-finite input, or on an
     /// uncentred signal shorter than one frame.
     pub fn compute(&self, samples: &[f32]) -> Result<Array2<f32>> {
-        if samples.is_empty() {
-            return Err(DspError::EmptyAudio);
-        }
-        if let Some(index) = first_non_finite(samples) {
-            return Err(DspError::NonFiniteInput { index });
-        }
-        let n_frames = self.n_stft_frames(samples.len());
-        if n_frames == 0 {
-            return Err(DspError::TooShort {
-                len: samples.len(),
-                needed: self.cfg.n_fft - 1,
-            });
-        }
         let n_mels = self.cfg.n_mels;
-        let mut out = vec![0.0f32; n_frames * n_mels];
-        let pad = if self.cfg.center {
-            self.cfg.n_fft / 2
-        } else {
-            0
-        };
-        out.par_chunks_mut(FRAMES_PER_TASK * n_mels)
-            .enumerate()
-            .for_each(|(task, chunk)| {
-                let n_fft = self.cfg.n_fft;
-                let zero = Complex::new(0.0, 0.0);
-                let mut buf = vec![zero; n_fft];
-                let mut scratch = vec![zero; self.fft.get_inplace_scratch_len()];
-                let mut power_a = vec![0.0f32; n_fft / 2 + 1];
-                let mut power_b = vec![0.0f32; n_fft / 2 + 1];
-                let first = task * FRAMES_PER_TASK;
-                let rows = chunk.len() / n_mels;
-                let mut i = 0;
-                while i < rows {
-                    let pair = i + 1 < rows;
-                    let start_a = (first + i) * self.hop;
-                    let start_b = pair.then_some(start_a + self.hop);
-                    self.fill_pair(samples, start_a, start_b, pad, &mut buf);
-                    self.fft.process_with_scratch(&mut buf, &mut scratch);
-                    self.split_power(&buf, &mut power_a, &mut power_b);
-                    self.apply_bands(&power_a, &mut chunk[i * n_mels..(i + 1) * n_mels]);
-                    if pair {
-                        self.apply_bands(&power_b, &mut chunk[(i + 1) * n_mels..(i + 2) * n_mels]);
-                    }
-                    i += 2;
-                }
-            });
-        let stft = Array2::from_shape_vec((n_frames, n_mels), out)
+        let out = self
+            .stft
+            .map_frames(samples, n_mels, |power, row| self.apply_bands(power, row))?;
+        let stft = Array2::from_shape_vec((out.len() / n_mels, n_mels), out)
             .map_err(|e| DspError::InvalidConfig(e.to_string()))?;
         Ok(pool_frames(stft, self.cfg.pool_frames))
     }
@@ -147,86 +97,12 @@ impl MelSpectrogram {
         Ok(s)
     }
 
-    /// Packs the windowed frames starting at `start_a` and `start_b` (in the virtually padded
-    /// signal) as real and imaginary parts of `buf`; a missing `b` frame is zeros.
-    fn fill_pair(
-        &self,
-        samples: &[f32],
-        start_a: usize,
-        start_b: Option<usize>,
-        pad: usize,
-        buf: &mut [Complex<f64>],
-    ) {
-        let n_fft = buf.len();
-        let interior = |start: usize| start >= pad && start - pad + n_fft <= samples.len();
-        match start_b {
-            Some(start_b) if interior(start_a) && interior(start_b) => {
-                let a = &samples[start_a - pad..start_a - pad + n_fft];
-                let b = &samples[start_b - pad..start_b - pad + n_fft];
-                for (((z, xa), xb), w) in buf.iter_mut().zip(a).zip(b).zip(&self.window) {
-                    *z = Complex::new(f64::from(*xa) * w, f64::from(*xb) * w);
-                }
-            }
-            _ => {
-                let at = |start: Option<usize>, j: usize| -> f64 {
-                    match start {
-                        Some(s) if s + j >= pad && s + j - pad < samples.len() => {
-                            f64::from(samples[s + j - pad])
-                        }
-                        _ => 0.0,
-                    }
-                };
-                for (j, (z, w)) in buf.iter_mut().zip(&self.window).enumerate() {
-                    *z = Complex::new(at(Some(start_a), j) * w, at(start_b, j) * w);
-                }
-            }
-        }
-    }
-
-    /// Separates the spectra of the two real frames packed as `a + i·b` and writes
-    /// `|A|^power`, `|B|^power`, rounded to `f32` only at the end so faint bins keep their
-    /// precision: `A[k] = (Z[k] + conj Z[N−k]) / 2`, `B[k] = (Z[k] − conj Z[N−k]) / 2i`.
-    fn split_power(&self, z: &[Complex<f64>], power_a: &mut [f32], power_b: &mut [f32]) {
-        let n = z.len();
-        let half_power = f64::from(self.cfg.power) / 2.0;
-        let scale = |x: f64| -> f32 {
-            if half_power == 1.0 {
-                x as f32
-            } else {
-                x.powf(half_power) as f32
-            }
-        };
-        for (k, (pa, pb)) in power_a.iter_mut().zip(power_b.iter_mut()).enumerate() {
-            let zk = z[k];
-            let zc = if k == 0 { z[0].conj() } else { z[n - k].conj() };
-            let (s, d) = (zk + zc, zk - zc);
-            *pa = scale(0.25 * (s.re * s.re + s.im * s.im));
-            *pb = scale(0.25 * (d.re * d.re + d.im * d.im));
-        }
-    }
-
     fn apply_bands(&self, power: &[f32], row: &mut [f32]) {
         for (value, band) in row.iter_mut().zip(&self.bands) {
             let bins = &power[band.start..band.start + band.weights.len()];
             *value = dot(bins, &band.weights);
         }
     }
-}
-
-/// Index of the first NaN or infinity; a branch-free scan per block so it vectorises.
-pub(crate) fn first_non_finite(samples: &[f32]) -> Option<usize> {
-    const BLOCK: usize = 4096;
-    samples.chunks(BLOCK).enumerate().find_map(|(b, chunk)| {
-        let all_finite = chunk.iter().fold(true, |ok, s| ok & s.is_finite());
-        if all_finite {
-            None
-        } else {
-            chunk
-                .iter()
-                .position(|s| !s.is_finite())
-                .map(|i| b * BLOCK + i)
-        }
-    })
 }
 
 #[inline]

@@ -3,7 +3,7 @@
 use audioadapter_buffers::direct::InterleavedSlice;
 use rubato::{Fft, FixedSync, Resampler};
 
-use crate::audio::Audio;
+use crate::audio::{load_audio, AnalysisRate, Audio};
 use crate::error::{DspError, Result};
 
 /// Highest rate we accept, in or out.
@@ -50,6 +50,15 @@ pub fn resample(audio: &Audio, target_hz: u32) -> Result<Audio> {
         samples.push(0.0);
     }
     Audio::new(samples, target_hz)
+}
+
+/// Decodes an audio file and resamples it to `rate`.
+pub fn load_audio_at(path: impl AsRef<std::path::Path>, rate: AnalysisRate) -> Result<Audio> {
+    let audio = load_audio(path)?;
+    match rate {
+        AnalysisRate::Native => Ok(audio),
+        AnalysisRate::Hz(hz) => resample(&audio, hz),
+    }
 }
 
 #[cfg(test)]

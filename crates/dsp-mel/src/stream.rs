@@ -170,7 +170,7 @@ impl AudioReader {
             }
             self.decode_next()?;
         }
-        if let Some(i) = crate::mel::first_non_finite(&out[start..]) {
+        if let Some(i) = crate::stft::first_non_finite(&out[start..]) {
             return Err(DspError::NonFinite {
                 source_name: self.path.display().to_string(),
                 index: self.delivered + i,

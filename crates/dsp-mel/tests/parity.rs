@@ -65,6 +65,23 @@ fn mel30_matches_librosa_at_44100() {
     mel30_parity(44_100);
 }
 
+/// The single-precision transform (beat-track's onset spectrogram) against the same
+/// fixture, with the same tolerances as double precision.
+#[test]
+fn single_precision_mel30_stays_close_to_librosa() {
+    let cfg = MelConfig::bowing();
+    let mel = MelSpectrogram::<f32>::with_precision(cfg).unwrap();
+    let y = signal(22_050);
+    let ours = mel.compute(&y).unwrap();
+    let ours_db = mel.compute_db(&y, &DbConfig::default()).unwrap();
+    let reference: Array2<f64> = read_npy(fixture("mel30_22050_power.npy")).unwrap();
+    let ref_db: Array2<f64> = read_npy(fixture("mel30_22050_db.npy")).unwrap();
+    let (rel, db) = compare(&ours, &reference, &ours_db, &ref_db);
+    println!("mel30 @ 22050 Hz in f32: max relative error {rel:.2e}, max dB error {db:.2e}");
+    assert!(rel <= 1e-4, "relative error {rel}");
+    assert!(db <= 0.01, "dB error {db}");
+}
+
 #[test]
 fn htk_magnitude_mel_matches_librosa() {
     let cfg = MelConfig {

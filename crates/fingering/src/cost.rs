@@ -2,8 +2,9 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::fingering::{Fingering, Placement};
+use crate::fingering::Fingering;
 use crate::physical;
+use crate::placement::Placement;
 
 /// Tunable weights of the fingering cost. A plan's cost is the sum over its notes of a
 /// **place cost** ([`CostWeights::place_cost`]) plus, between consecutive notes, a

@@ -2,8 +2,8 @@
 
 use crate::error::FingeringError;
 use crate::fingering::Fingering;
+use crate::planner::FingeringPlanner;
 use crate::table::FingeringTable;
-use crate::FingeringPlanner;
 
 /// The original design's greedy rule (SPEC §6, the seed's Algorithm 2), exactly:
 ///

@@ -37,14 +37,20 @@ mod fingering;
 mod greedy;
 mod optimal;
 pub mod physical;
+mod placement;
+mod places;
+mod planner;
 mod string;
 mod table;
 
 pub use cost::CostWeights;
 pub use error::FingeringError;
-pub use fingering::{Fingering, Placement};
+pub use fingering::Fingering;
 pub use greedy::GreedyPlanner;
 pub use optimal::OptimalPlanner;
+pub use placement::Placement;
+pub use places::places_for;
+pub use planner::FingeringPlanner;
 pub use string::ViolinString;
 pub use table::{FingeringTable, ORIGINAL_TABLE_TSV};
 
@@ -52,11 +58,3 @@ pub use table::{FingeringTable, ORIGINAL_TABLE_TSV};
 #[cfg(doctest)]
 #[doc = include_str!("../README.md")]
 pub struct ReadmeDoctests;
-
-/// Chooses one [`Fingering`] per note.
-pub trait FingeringPlanner {
-    /// Plans `midi` (one MIDI pitch per note, in order) and returns one place per note;
-    /// empty input gives an empty plan. A pitch that no place of the planner's table plays
-    /// gives [`FingeringError::UnplayablePitch`] with its index.
-    fn plan(&self, midi: &[u8]) -> Result<Vec<Fingering>, FingeringError>;
-}

@@ -3,9 +3,9 @@
 use crate::cost::CostWeights;
 use crate::error::FingeringError;
 use crate::fingering::Fingering;
+use crate::planner::FingeringPlanner;
 use crate::string::ViolinString;
 use crate::table::FingeringTable;
-use crate::FingeringPlanner;
 
 /// Chooses, among all places of every note, the plan of least total cost under
 /// [`CostWeights`] (shifts, string crossings, high positions, open strings, weak or

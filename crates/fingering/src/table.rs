@@ -46,7 +46,7 @@ impl FingeringTable {
         let mut ranges = Vec::new();
         for midi in physical::LOWEST_MIDI..=physical::HIGHEST_MIDI {
             let start = places.len() as u32;
-            physical::push_places_for(midi, &mut places);
+            crate::places::push_places_for(midi, &mut places);
             ranges.push((start, places.len() as u32));
         }
         FingeringTable {

@@ -30,120 +30,9 @@
 //!    jumps only at the reversal itself (from `+e·v` to `−e·v'`). The position at a change
 //!    frame is the extreme of the two strokes around it.
 
-use crate::error::{Result, SynthError};
-use crate::geometry::smoothstep;
-
-/// Rules of the bow planner; [`BowPolicy::default`] is the original design's rule.
-#[derive(Debug, Clone, PartialEq)]
-pub struct BowPolicy {
-    /// Frames for a full bow at the normal speed (28 at 30 fps).
-    pub full_bow_frames: usize,
-    /// Strokes shorter than this many frames use a partial bow of their own length (15).
-    pub partial_below_frames: usize,
-    /// Fastest allowed stroke, in multiples of the full-bow speed (2.0).
-    pub max_speed_factor: f64,
-    /// Grid steps of the bow position in the planner (100: 1 % of the bow).
-    pub resolution: usize,
-    /// Cost of starting away from the preferred end, per bow length (0.5).
-    pub start_weight: f64,
-    /// Choose the first direction so that downbeats fall on down-bows (true).
-    pub prefer_down_on_downbeats: bool,
-    /// Bow speed at a reversal, as a fraction of the stroke's cruise speed (0.25).
-    pub reversal_speed: f64,
-    /// Share of the stroke spent accelerating (and, at the end, decelerating) (0.25).
-    pub ramp_fraction: f64,
-}
-
-impl Default for BowPolicy {
-    fn default() -> Self {
-        BowPolicy {
-            full_bow_frames: 28,
-            partial_below_frames: 15,
-            max_speed_factor: 2.0,
-            resolution: 100,
-            start_weight: 0.5,
-            prefer_down_on_downbeats: true,
-            reversal_speed: 0.25,
-            ramp_fraction: 0.25,
-        }
-    }
-}
-
-impl BowPolicy {
-    fn validate(&self) -> Result<()> {
-        let ok = self.full_bow_frames > 0
-            && self.resolution >= 4
-            && self.resolution <= 10_000
-            && self.max_speed_factor.is_finite()
-            && self.max_speed_factor >= 1.0
-            && self.start_weight.is_finite()
-            && self.start_weight >= 0.0
-            && (0.0..=1.0).contains(&self.reversal_speed)
-            && (0.0..=0.5).contains(&self.ramp_fraction);
-        if ok {
-            Ok(())
-        } else {
-            Err(SynthError::InvalidConfig(format!(
-                "bow policy {self:?}: need full_bow_frames > 0, resolution 4..=10000, \
-                 max_speed_factor >= 1, start_weight >= 0, reversal_speed in [0, 1], ramp_fraction in [0, 0.5]"
-            )))
-        }
-    }
-
-    /// The original rule's travel for a stroke of `frames` frames, in bow lengths.
-    pub fn desired_travel(&self, frames: usize) -> f64 {
-        if frames < self.partial_below_frames {
-            (frames as f64 / self.full_bow_frames as f64).min(1.0)
-        } else {
-            1.0
-        }
-    }
-}
-
-/// Which way the bow moves.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum BowDirection {
-    /// Frog → tip (position increases).
-    Down,
-    /// Tip → frog (position decreases).
-    Up,
-}
-
-impl BowDirection {
-    /// +1 for down, −1 for up.
-    pub fn sign(self) -> f64 {
-        match self {
-            BowDirection::Down => 1.0,
-            BowDirection::Up => -1.0,
-        }
-    }
-
-    /// The other direction.
-    pub fn reversed(self) -> BowDirection {
-        match self {
-            BowDirection::Down => BowDirection::Up,
-            BowDirection::Up => BowDirection::Down,
-        }
-    }
-}
-
-/// One stroke of a [`BowPlan`].
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
-pub struct BowStroke {
-    /// First frame.
-    pub start_frame: usize,
-    /// One past the last frame (the next stroke's first frame).
-    pub end_frame: usize,
-    /// Direction.
-    pub direction: BowDirection,
-    /// Bow position at `start_frame` (0 frog … 1 tip).
-    pub start_position: f64,
-    /// Bow position at `end_frame`.
-    pub end_position: f64,
-    /// What the original rule asked for, bow lengths.
-    pub desired_travel: f64,
-}
+use crate::bow_profile::sample_strokes;
+pub use crate::bow_stroke::{BowDirection, BowPolicy, BowStroke};
+use crate::error::Result;
 
 /// Planned strokes and the bow position of every frame.
 #[derive(Debug, Clone, PartialEq)]
@@ -364,70 +253,9 @@ pub fn plan_naive(changes: &[usize], frames: usize, policy: &BowPolicy) -> Resul
     Ok(BowPlan { strokes, positions })
 }
 
-/// Share of the stroke covered at `u` ∈ [0, 1] under the eased speed profile.
-fn eased(u: f64, e: f64, r: f64) -> f64 {
-    // ∫₀ˣ smoothstep = x³ − x⁴/2.
-    let ramp = |x: f64| x * x * x - 0.5 * x * x * x * x;
-    let cum = |u: f64| -> f64 {
-        if r <= 0.0 {
-            return u;
-        }
-        if u <= r {
-            e * u + (1.0 - e) * r * ramp(u / r)
-        } else {
-            e * u + (1.0 - e) * (0.5 * r + (u - r).min(1.0 - 2.0 * r))
-        }
-    };
-    let total = e + (1.0 - e) * (1.0 - r);
-    let u = u.clamp(0.0, 1.0);
-    let value = if u <= 1.0 - r || r <= 0.0 {
-        cum(u)
-    } else {
-        total - cum(1.0 - u)
-    };
-    if total > 0.0 {
-        value / total
-    } else {
-        smoothstep(u)
-    }
-}
-
-fn sample_strokes(strokes: &[BowStroke], frames: usize, policy: &BowPolicy) -> Vec<f32> {
-    let mut positions = vec![0.0f32; frames];
-    for s in strokes {
-        let n = (s.end_frame - s.start_frame) as f64;
-        let span = s.end_position - s.start_position;
-        let end = s.end_frame.min(frames);
-        for (k, slot) in positions[s.start_frame.min(end)..end]
-            .iter_mut()
-            .enumerate()
-        {
-            let share = eased(k as f64 / n, policy.reversal_speed, policy.ramp_fraction);
-            *slot = (s.start_position + span * share) as f32;
-        }
-    }
-    positions
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn eased_profile_is_monotone_and_ends_at_one() {
-        for (e, r) in [(0.25, 0.25), (0.0, 0.5), (1.0, 0.25), (0.3, 0.0)] {
-            assert!(eased(0.0, e, r).abs() < 1e-12);
-            assert!((eased(1.0, e, r) - 1.0).abs() < 1e-12);
-            let mut prev = 0.0;
-            for i in 1..=200 {
-                let v = eased(i as f64 / 200.0, e, r);
-                assert!(v >= prev - 1e-12, "not monotone at e={e} r={r}");
-                prev = v;
-            }
-            // Symmetric: the second half mirrors the first.
-            assert!((eased(0.3, e, r) + eased(0.7, e, r) - 1.0).abs() < 1e-12);
-        }
-    }
 
     #[test]
     fn seed_rule_travel() {

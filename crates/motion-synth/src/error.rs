@@ -19,14 +19,6 @@ pub enum SynthError {
     /// A configuration value is unusable.
     #[error("invalid synthesis configuration: {0}")]
     InvalidConfig(String),
-    /// The motion lacks a track that the operation needs.
-    #[error("the motion has no {track}; {hint}")]
-    MissingTrack {
-        /// The track (e.g. "3-D track").
-        track: &'static str,
-        /// What to do.
-        hint: &'static str,
-    },
     /// A file could not be read or written.
     #[error("{path}: {source}")]
     Io {
@@ -38,14 +30,6 @@ pub enum SynthError {
     /// Writing to a stream failed.
     #[error("write failed: {0}")]
     Write(#[from] std::io::Error),
-    /// A BVH text is malformed.
-    #[error("BVH line {line}: {reason}")]
-    BvhParse {
-        /// 1-based line number.
-        line: usize,
-        /// What is wrong.
-        reason: String,
-    },
     /// A performance JSON file could not be read.
     #[error(transparent)]
     PerformanceFile(#[from] performance::PerformanceFileError),

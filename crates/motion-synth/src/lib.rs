@@ -40,7 +40,9 @@
 
 pub mod body;
 pub mod bow;
-pub mod bvh;
+mod bow_profile;
+mod bow_stroke;
+pub use skeleton::formats::bvh;
 mod camera;
 mod error;
 pub mod geometry;

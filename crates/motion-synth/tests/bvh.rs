@@ -1,11 +1,11 @@
 //! BVH export: written, parsed back, forward kinematics reproduces the 3-D joints.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use motion_synth::bvh::{joint_for, parse_bvh, write_bvh, write_bvh_file};
-use motion_synth::{synthesize, SynthConfig, SynthError};
-use ndarray::Array3;
+use motion_synth::{synthesize, SynthConfig};
 use performance::{ArousalCurve, Performance};
-use skeleton::{Joint, Motion};
+use ndarray::Array3;
+use skeleton::formats::bvh::{joint_for, parse_bvh, write_bvh, write_bvh_file};
+use skeleton::{Joint, Motion, SkeletonError};
 
 fn motion() -> Motion {
     // Crosses all four strings, shifts, changes bow often, leans and sways.
@@ -108,7 +108,7 @@ fn file_variant_is_atomic_and_errors_are_typed() {
     let flat = Motion::new(30.0, Array3::zeros((3, 10, 2))).unwrap();
     assert!(matches!(
         write_bvh(&flat, Vec::new()),
-        Err(SynthError::MissingTrack { .. })
+        Err(SkeletonError::MissingTrack { .. })
     ));
     let mut nan = Array3::<f32>::zeros((3, 10, 3));
     nan[[1, 2, 0]] = f32::NAN;

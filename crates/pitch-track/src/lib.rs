@@ -3,9 +3,10 @@
 //! Monophonic f0 tracking and note segmentation for solo violin (SPEC §6).
 //!
 //! * [`PitchTracker`] — pYIN (Mauch & Dixon 2014) as `librosa.pyin` computes it: the YIN
-//!   cumulative-mean-normalised difference from an FFT autocorrelation (realfft, planned once,
-//!   frames in parallel), probabilistic candidates under a beta prior over thresholds, and a
-//!   Viterbi decode over pitch bins × {voiced, unvoiced} with a limited pitch jump per frame.
+//!   cumulative-mean-normalised difference from an FFT autocorrelation (a real FFT planned
+//!   once by `dsp_mel::fft`, frames in parallel), probabilistic candidates under a beta prior
+//!   over thresholds, and a Viterbi decode over pitch bins × {voiced, unvoiced} with a
+//!   limited pitch jump per frame.
 //!   Output: [`PitchTrack`] (f0 in Hz, NaN where unvoiced, and the voiced probability), which
 //!   [`PitchTrack::resample_to_fps`] puts on the skeleton's 30 fps grid.
 //! * [`segment_notes`] — stable-pitch segments of the f0 path, split at onsets inside a

@@ -3,9 +3,8 @@
 
 use std::sync::Arc;
 
+use dsp_mel::fft::{Complex, ComplexToReal, Planner, RealToComplex};
 use rayon::prelude::*;
-use realfft::num_complex::Complex;
-use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
 
 use crate::config::PitchConfig;
 use crate::prior::{boltzmann_pmf, ThresholdPrior};
@@ -74,10 +73,10 @@ struct Scratch {
 impl Yin {
     pub fn new(cfg: &PitchConfig) -> Self {
         let fft_len = smooth_even_at_least(cfg.frame_length + cfg.max_period() + 1);
-        let mut planner = RealFftPlanner::<f32>::new();
+        let mut planner = Planner::<f32>::new();
         Self {
-            forward: planner.plan_fft_forward(fft_len),
-            inverse: planner.plan_fft_inverse(fft_len),
+            forward: planner.real_forward(fft_len),
+            inverse: planner.real_inverse(fft_len),
             fft_len,
             prior: ThresholdPrior::new(
                 cfg.n_thresholds,

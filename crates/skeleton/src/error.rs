@@ -90,6 +90,25 @@ pub enum SkeletonError {
         /// The path.
         path: PathBuf,
     },
+    /// The motion lacks a track that the operation needs.
+    #[error("the motion has no {track}; {hint}")]
+    MissingTrack {
+        /// The track (e.g. "3-D track").
+        track: &'static str,
+        /// What to do.
+        hint: &'static str,
+    },
+    /// Writing to a stream failed.
+    #[error("write failed: {0}")]
+    Write(#[from] std::io::Error),
+    /// A BVH text is malformed.
+    #[error("BVH line {line}: {reason}")]
+    BvhParse {
+        /// 1-based line number.
+        line: usize,
+        /// What is wrong.
+        reason: String,
+    },
 }
 
 /// `Result` with [`SkeletonError`].

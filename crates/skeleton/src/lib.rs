@@ -2,7 +2,8 @@
 //!
 //! The shared vocabulary of motion in violin-skeleton: the ten [`Joint`]s of the violinist
 //! (with OpenPose COCO-18 / BODY_25 index maps), [`Motion`] (joint tracks at a frame rate,
-//! optional 3-D and instrument tracks), [`BONES`], plausibility metrics, and motion files.
+//! optional 3-D and instrument tracks), [`BONES`], plausibility metrics, motion files
+//! ([`formats`], BVH included: [`formats::bvh`]) and the small 3-D [`geometry`] they use.
 //!
 //! ```
 //! use ndarray::Array3;
@@ -15,6 +16,7 @@
 
 mod error;
 pub mod formats;
+pub mod geometry;
 mod joint;
 pub mod metrics;
 mod motion;

@@ -33,8 +33,8 @@ fn header() -> Vec<String> {
 /// # Ok::<(), skeleton::SkeletonError>(())
 /// ```
 pub fn write_csv(motion: &Motion, writer: impl Write) -> Result<()> {
-    let path = super::memory_path();
-    super::check_writable(motion, &path, false)?;
+    let path = super::check::memory_path();
+    super::check::check_writable(motion, &path, false)?;
     write(motion, writer, &path)
 }
 
@@ -61,7 +61,7 @@ pub(crate) fn write(motion: &Motion, mut writer: impl Write, path: &Path) -> Res
 /// Reads CSV from `reader`: columns by header name (any order; all 22 required, no others),
 /// frames numbered 0, 1, 2, …, fps from the `time_s` column (30 for a single row).
 pub fn read_csv_from(mut reader: impl Read) -> Result<Motion> {
-    let path = super::memory_path();
+    let path = super::check::memory_path();
     let mut bytes = Vec::new();
     reader
         .read_to_end(&mut bytes)
@@ -121,7 +121,7 @@ fn columns(path: &Path, head: &str) -> Result<Vec<Column>> {
 fn fps_from_times(path: &Path, times: &[f64]) -> Result<f64> {
     let n = times.len();
     if n < 2 {
-        return Ok(super::DEFAULT_FPS);
+        return Ok(super::check::DEFAULT_FPS);
     }
     let span = times[n - 1] - times[0];
     let raw = (n - 1) as f64 / span;

@@ -76,8 +76,8 @@ struct MotionJsonOut<'a> {
 /// # Ok::<(), skeleton::SkeletonError>(())
 /// ```
 pub fn write_json(motion: &Motion, writer: impl Write) -> Result<()> {
-    let path = super::memory_path();
-    super::check_writable(motion, &path, true)?;
+    let path = super::check::memory_path();
+    super::check::check_writable(motion, &path, true)?;
     write(motion, writer, &path)
 }
 
@@ -121,7 +121,7 @@ struct MotionJsonIn {
 /// Reads motion JSON from `reader` (joints in any order, by name; unknown or missing joints
 /// are errors).
 pub fn read_json_from(mut reader: impl Read) -> Result<Motion> {
-    let path = super::memory_path();
+    let path = super::check::memory_path();
     let mut bytes = Vec::new();
     reader
         .read_to_end(&mut bytes)

@@ -1,4 +1,5 @@
-//! Motion files: JSON, CSV, NPY and OpenPose directories, each read and written.
+//! Motion files: JSON, CSV, NPY and OpenPose directories, each read and written, and BVH
+//! export of the 3-D track with a parser that checks it ([`bvh`]).
 //!
 //! | format | what | read | write |
 //! |---|---|---|---|
@@ -31,20 +32,21 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+pub mod bvh;
+mod check;
 mod csv;
 mod files;
 mod json;
 mod npy;
 mod openpose;
 
-use std::path::{Path, PathBuf};
-
-use ndarray::Array3;
+use std::path::Path;
 
 use crate::error::{Result, SkeletonError};
-use crate::joint::Joint;
 use crate::motion::Motion;
+use check::check_writable;
 
+pub use check::DEFAULT_FPS;
 pub use csv::{read_csv_from, write_csv};
 pub use json::{read_json_from, write_json};
 pub use npy::{read_npy_from, write_npy};
@@ -52,12 +54,6 @@ pub use openpose::{
     openpose_file_name, openpose_frame_number, write_openpose_frame, OpenPoseFrame,
     OpenPoseOptions, OpenPosePerson,
 };
-
-/// Frame rate assumed when a format does not store one (NPY, OpenPose, a one-row CSV).
-pub const DEFAULT_FPS: f64 = 30.0;
-
-/// The label used in errors from the in-memory readers and writers.
-pub(crate) const MEMORY: &str = "<memory>";
 
 /// A motion file format.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
@@ -162,56 +158,4 @@ impl Motion {
     pub fn read_openpose(dir: impl AsRef<Path>, fps: f64) -> Result<Motion> {
         openpose::read_dir(dir.as_ref(), fps)
     }
-}
-
-/// Fails on an empty motion or a non-finite value in the tracks a format writes.
-fn check_writable(motion: &Motion, path: &Path, all_tracks: bool) -> Result<()> {
-    if motion.is_empty() {
-        return Err(SkeletonError::Empty {
-            path: path.to_path_buf(),
-        });
-    }
-    check_finite(motion.frames(), "frames", path, true)?;
-    if all_tracks {
-        if let Some(t) = motion.frames_3d() {
-            check_finite(t, "frames_3d", path, true)?;
-        }
-        if let Some(t) = motion.instrument() {
-            check_finite(t, "instrument", path, false)?;
-        }
-        if let Some(t) = motion.instrument_3d() {
-            check_finite(t, "instrument_3d", path, false)?;
-        }
-    }
-    Ok(())
-}
-
-/// Fails naming the first non-finite value of a `(T, points, dims)` track.
-fn check_finite(track: &Array3<f32>, name: &str, path: &Path, joints: bool) -> Result<()> {
-    match track.indexed_iter().find(|(_, v)| !v.is_finite()) {
-        None => Ok(()),
-        Some(((t, p, c), v)) => Err(SkeletonError::NonFinite {
-            path: path.to_path_buf(),
-            location: format!(
-                "{name}: frame {t}, {} {}, coordinate {} = {v}",
-                if joints { "joint" } else { "point" },
-                point_name(p, joints),
-                ["x", "y", "z"].get(c).copied().unwrap_or("?")
-            ),
-        }),
-    }
-}
-
-/// The name of point `p` of a joint or instrument track.
-fn point_name(p: usize, joints: bool) -> &'static str {
-    if joints {
-        Joint::ALL.get(p).map_or("?", |j| j.name())
-    } else {
-        crate::InstrumentPoint::ALL.get(p).map_or("?", |i| i.name())
-    }
-}
-
-/// A path for error messages of the in-memory readers and writers.
-pub(crate) fn memory_path() -> PathBuf {
-    PathBuf::from(MEMORY)
 }

@@ -21,8 +21,8 @@ use crate::motion::Motion;
 /// # Ok::<(), skeleton::SkeletonError>(())
 /// ```
 pub fn write_npy(motion: &Motion, writer: impl Write) -> Result<()> {
-    let path = super::memory_path();
-    super::check_writable(motion, &path, false)?;
+    let path = super::check::memory_path();
+    super::check::check_writable(motion, &path, false)?;
     write(motion, writer, &path)
 }
 
@@ -38,7 +38,7 @@ pub(crate) fn write(motion: &Motion, writer: impl Write, path: &Path) -> Result<
 /// Reads a `(T, 20)` (or `(T, 10, 2)`) float32 or float64 NPY array from `reader` as a
 /// motion at `fps`.
 pub fn read_npy_from(mut reader: impl Read, fps: f64) -> Result<Motion> {
-    let path = super::memory_path();
+    let path = super::check::memory_path();
     let mut bytes = Vec::new();
     reader
         .read_to_end(&mut bytes)

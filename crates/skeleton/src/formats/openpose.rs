@@ -161,14 +161,14 @@ pub fn write_openpose_frame(
     options: &OpenPoseOptions,
     writer: impl Write,
 ) -> Result<()> {
-    let path = super::memory_path();
+    let path = super::check::memory_path();
     if frame >= motion.len() {
         return Err(SkeletonError::Format {
             path,
             reason: format!("frame {frame} is past the motion's {} frames", motion.len()),
         });
     }
-    super::check_writable(motion, &path, false)?;
+    super::check::check_writable(motion, &path, false)?;
     let mut keypoints = Vec::new();
     write_frame(motion, frame, options.layout, &mut keypoints, writer, &path)
 }

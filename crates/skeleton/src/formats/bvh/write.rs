@@ -4,10 +4,11 @@ use std::io::Write;
 use std::path::Path;
 
 use ndarray::Array3;
-use skeleton::{Joint, Motion};
 
-use crate::error::{Result, SynthError};
+use crate::error::{Result, SkeletonError};
 use crate::geometry::{Mat3, Vec3};
+use crate::joint::Joint;
+use crate::motion::Motion;
 
 /// The BVH joints in file order.
 pub const BVH_JOINTS: [&str; 12] = [
@@ -118,19 +119,19 @@ fn mean<F: Fn(usize) -> f64>(frames: usize, f: F) -> f64 {
 /// Writes `motion`'s 3-D track as BVH (see the [module documentation](super)). Fails when
 /// the motion has no 3-D track, no frames or a non-finite coordinate.
 pub fn write_bvh(motion: &Motion, mut out: impl Write) -> Result<()> {
-    let track = motion.frames_3d().ok_or(SynthError::MissingTrack {
+    let track = motion.frames_3d().ok_or(SkeletonError::MissingTrack {
         track: "3-D track",
         hint: "BVH needs 3-D joints; synthesize the motion with motion-synth",
     })?;
     let n = motion.len();
     if n == 0 {
-        return Err(SynthError::MissingTrack {
+        return Err(SkeletonError::MissingTrack {
             track: "frames",
             hint: "the motion is empty",
         });
     }
     if track.iter().any(|v| !v.is_finite()) {
-        return Err(SynthError::MissingTrack {
+        return Err(SkeletonError::MissingTrack {
             track: "finite 3-D coordinates",
             hint: "the 3-D track contains NaN or infinity",
         });
@@ -315,7 +316,7 @@ pub fn write_bvh(motion: &Motion, mut out: impl Write) -> Result<()> {
 pub fn write_bvh_file(motion: &Motion, path: impl AsRef<Path>) -> Result<()> {
     let path = path.as_ref();
     atomic_file::write_atomically(path, |w| write_bvh(motion, w)).map_err(|e| match e {
-        atomic_file::AtomicWriteError::Io(source) => SynthError::Io {
+        atomic_file::AtomicWriteError::Io(source) => SkeletonError::Io {
             path: path.to_path_buf(),
             source,
         },

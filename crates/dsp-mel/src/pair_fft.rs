@@ -16,18 +16,33 @@
 //! The same identity gives two autocorrelations from one forward and one inverse complex
 //! FFT: `IFFT(|A|² + i·|B|²) = acf(a) + i·acf(b)`, both being real.
 
+//!
+//! ```
+//! use dsp_mel::fft::{Complex, PairFft};
+//! let fft = PairFft::<f32>::new(4, false);
+//! let mut buf = fft.buffers();
+//! for (d, (a, b)) in buf.data.iter_mut().zip([1.0, 0.0, 0.0, 0.0].iter().zip(&[1.0, 1.0, 1.0, 1.0])) {
+//!     *d = Complex::new(*a, *b);
+//! }
+//! let (mut pa, mut pb) = (vec![0.0; 3], vec![0.0; 3]);
+//! fft.power_pair(&mut buf, &mut pa, &mut pb);
+//! assert_eq!(pa, vec![1.0, 1.0, 1.0]); // an impulse: flat spectrum
+//! assert_eq!(pb, vec![16.0, 0.0, 0.0]); // a constant: all in the DC bin
+//! ```
+
 use std::sync::Arc;
 
 use rustfft::num_complex::Complex;
-use rustfft::{Fft, FftPlanner};
+use rustfft::{Fft, FftNum, FftPlanner};
 
-/// A planned complex FFT of one length, with its scratch space.
-pub(crate) struct PairFft {
-    forward: Arc<dyn Fft<f32>>,
-    inverse: Option<Arc<dyn Fft<f32>>>,
+/// A planned complex FFT of one length (forward, and inverse when asked for) that serves two
+/// real frames per transform.
+pub struct PairFft<T: FftNum> {
+    forward: Arc<dyn Fft<T>>,
+    inverse: Option<Arc<dyn Fft<T>>>,
 }
 
-impl std::fmt::Debug for PairFft {
+impl<T: FftNum> std::fmt::Debug for PairFft<T> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("PairFft")
             .field("len", &self.forward.len())
@@ -35,17 +50,19 @@ impl std::fmt::Debug for PairFft {
     }
 }
 
-/// Buffers of one worker thread.
-pub(crate) struct PairBuffers {
+/// Buffers of one worker thread: the caller packs frame `a` into the real parts of
+/// [`PairBuffers::data`] and frame `b` into the imaginary parts.
+#[derive(Debug, Clone)]
+pub struct PairBuffers<T: FftNum> {
     /// The packed frames, transformed in place.
-    pub data: Vec<Complex<f32>>,
-    scratch: Vec<Complex<f32>>,
+    pub data: Vec<Complex<T>>,
+    scratch: Vec<Complex<T>>,
 }
 
-impl PairFft {
+impl<T: FftNum> PairFft<T> {
     /// Plans a forward FFT of `len` points, and an inverse one when `with_inverse`.
     pub fn new(len: usize, with_inverse: bool) -> Self {
-        let mut planner = FftPlanner::<f32>::new();
+        let mut planner = FftPlanner::<T>::new();
         Self {
             forward: planner.plan_fft_forward(len),
             inverse: with_inverse.then(|| planner.plan_fft_inverse(len)),
@@ -57,24 +74,30 @@ impl PairFft {
         self.forward.len()
     }
 
+    /// Whether the transform has length 0.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
     /// Zeroed buffers for one thread.
-    pub fn buffers(&self) -> PairBuffers {
+    pub fn buffers(&self) -> PairBuffers<T> {
         let scratch = self.forward.get_inplace_scratch_len().max(
             self.inverse
                 .as_ref()
                 .map_or(0, |f| f.get_inplace_scratch_len()),
         );
         PairBuffers {
-            data: vec![Complex::new(0.0, 0.0); self.len()],
-            scratch: vec![Complex::new(0.0, 0.0); scratch],
+            data: vec![Complex::new(T::zero(), T::zero()); self.len()],
+            scratch: vec![Complex::new(T::zero(), T::zero()); scratch],
         }
     }
 
     /// Transforms `buf.data` (frame `a` in the real parts, `b` in the imaginary parts) and
     /// writes `|A[k]|²` and `|B[k]|²` for `k < power_a.len()` (at most `len / 2 + 1` for a
     /// one-sided spectrum, or `len` for the whole).
-    pub fn power_pair(&self, buf: &mut PairBuffers, power_a: &mut [f32], power_b: &mut [f32]) {
+    pub fn power_pair(&self, buf: &mut PairBuffers<T>, power_a: &mut [T], power_b: &mut [T]) {
         let n = self.len();
+        let quarter = quarter::<T>();
         self.forward
             .process_with_scratch(&mut buf.data, &mut buf.scratch);
         let z = &buf.data;
@@ -95,21 +118,22 @@ impl PairFft {
         {
             let (sr, dr) = (zk.re + zn.re, zk.re - zn.re);
             let (si, di) = (zk.im + zn.im, zk.im - zn.im);
-            *pa = 0.25 * (sr * sr + di * di);
-            *pb = 0.25 * (dr * dr + si * si);
+            *pa = quarter * (sr * sr + di * di);
+            *pb = quarter * (dr * dr + si * si);
         }
     }
 
     /// Autocorrelations (lags `0..acf_a.len()`) of the two frames packed in `buf.data`,
     /// which must be zero-padded to at least twice the longest lag against wrap-around.
     /// Needs an instance made `with_inverse`; without one the outputs are zeroed.
-    pub fn acf_pair(&self, buf: &mut PairBuffers, acf_a: &mut [f32], acf_b: &mut [f32]) {
+    pub fn acf_pair(&self, buf: &mut PairBuffers<T>, acf_a: &mut [T], acf_b: &mut [T]) {
         let n = self.len();
         let Some(inverse) = &self.inverse else {
-            acf_a.fill(0.0);
-            acf_b.fill(0.0);
+            acf_a.fill(T::zero());
+            acf_b.fill(T::zero());
             return;
         };
+        let quarter = quarter::<T>();
         self.forward
             .process_with_scratch(&mut buf.data, &mut buf.scratch);
         // |A|² + i|B|² in place: bins k and n − k hold the same pair of values.
@@ -120,17 +144,23 @@ impl PairFft {
             let (zk, zn) = (z[k], z[n - k]);
             let (sr, dr) = (zk.re + zn.re, zk.re - zn.re);
             let (si, di) = (zk.im + zn.im, zk.im - zn.im);
-            let w = Complex::new(0.25 * (sr * sr + di * di), 0.25 * (dr * dr + si * si));
+            let w = Complex::new(quarter * (sr * sr + di * di), quarter * (dr * dr + si * si));
             z[k] = w;
             z[n - k] = w;
         }
         inverse.process_with_scratch(z, &mut buf.scratch);
-        let scale = 1.0 / n as f32;
+        let scale = T::one() / T::from_usize(n).unwrap_or_else(T::one);
         for ((a, b), v) in acf_a.iter_mut().zip(acf_b.iter_mut()).zip(z.iter()) {
             *a = v.re * scale;
             *b = v.im * scale;
         }
     }
+}
+
+/// 1/4, exactly (a power of two), in any precision.
+fn quarter<T: FftNum>() -> T {
+    let two = T::one() + T::one();
+    T::one() / (two * two)
 }
 
 #[cfg(test)]
@@ -153,7 +183,7 @@ mod tests {
         let n = 64;
         let a: Vec<f32> = (0..n).map(|i| ((i * 7 % 13) as f32 - 6.0) * 0.1).collect();
         let b: Vec<f32> = (0..n).map(|i| (i as f32 * 0.37).sin()).collect();
-        let fft = PairFft::new(n, false);
+        let fft = PairFft::<f32>::new(n, false);
         let mut buf = fft.buffers();
         for (d, (x, y)) in buf.data.iter_mut().zip(a.iter().zip(&b)) {
             *d = Complex::new(*x, *y);
@@ -177,7 +207,7 @@ mod tests {
         let n = 40;
         let a: Vec<f32> = (0..n / 2).map(|i| (i as f32 * 0.9).cos()).collect();
         let b: Vec<f32> = (0..n / 2).map(|i| (i % 3) as f32).collect();
-        let fft = PairFft::new(n, true);
+        let fft = PairFft::<f32>::new(n, true);
         let mut buf = fft.buffers();
         for (i, d) in buf.data.iter_mut().enumerate() {
             *d = Complex::new(

@@ -15,7 +15,7 @@
 //!
 //! Every joint but the root has `CHANNELS 3 Zrotation Xrotation Yrotation` (the rotation is
 //! `Rz · Rx · Ry`). OFFSETs are the skeleton's bone lengths (mean over the motion, which for
-//! a synthesised motion are the [`crate::Rig`]'s); the rest pose stands upright with the
+//! a motion synthesised by `motion-synth` are its rig's); the rest pose stands upright with the
 //! arms straight out to the sides (T-pose). The root rotation is the torso's orientation
 //! (from the hip line and the neck), the shoulders and elbows turn the arm segments onto the
 //! measured directions keeping the elbow's bending plane as the segments' local x–y plane,
@@ -26,16 +26,37 @@
 //! turns y-up into z-up).
 //!
 //! ```
-//! use motion_synth::{bvh, synthesize, SynthConfig};
-//! use performance::Performance;
-//! let perf = Performance::builder(1.0).note(0.0, 1.0, 69).build()?;
-//! let motion = synthesize(&perf, &SynthConfig::default())?;
+//! use ndarray::Array3;
+//! use skeleton::formats::bvh;
+//! use skeleton::{Joint, Motion};
+//! // A player standing still for 30 frames (metres, y up, facing +z).
+//! let pose = [
+//!     (Joint::Nose, [0.0, 1.62, 0.08]),
+//!     (Joint::Neck, [0.0, 1.45, 0.0]),
+//!     (Joint::RShoulder, [-0.19, 1.42, 0.0]),
+//!     (Joint::RElbow, [-0.25, 1.15, 0.1]),
+//!     (Joint::RWrist, [-0.2, 1.0, 0.3]),
+//!     (Joint::LShoulder, [0.19, 1.42, 0.0]),
+//!     (Joint::LElbow, [0.3, 1.3, 0.25]),
+//!     (Joint::LWrist, [0.1, 1.45, 0.4]),
+//!     (Joint::RHip, [-0.1, 0.95, 0.0]),
+//!     (Joint::LHip, [0.1, 0.95, 0.0]),
+//! ];
+//! let mut track = Array3::<f32>::zeros((30, 10, 3));
+//! for f in 0..30 {
+//!     for (joint, p) in pose {
+//!         for (c, v) in p.iter().enumerate() {
+//!             track[[f, joint.index(), c]] = *v;
+//!         }
+//!     }
+//! }
+//! let motion = Motion::new(30.0, Array3::zeros((30, 10, 2)))?.with_3d(track)?;
 //! let mut text = Vec::new();
 //! bvh::write_bvh(&motion, &mut text)?;
-//! let parsed = bvh::parse_bvh(std::str::from_utf8(&text).unwrap())?;
+//! let parsed = bvh::parse_bvh(std::str::from_utf8(&text).expect("BVH is text"))?;
 //! assert_eq!(parsed.frames.len(), 30);
 //! assert_eq!(parsed.channel_count(), 6 + 11 * 3);
-//! # Ok::<(), motion_synth::SynthError>(())
+//! # Ok::<(), skeleton::SkeletonError>(())
 //! ```
 
 mod parse;

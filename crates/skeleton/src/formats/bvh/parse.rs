@@ -1,6 +1,6 @@
 //! A small BVH reader and forward kinematics, enough to check exported files.
 
-use crate::error::{Result, SynthError};
+use crate::error::{Result, SkeletonError};
 use crate::geometry::{Mat3, Vec3};
 
 /// A BVH channel.
@@ -82,8 +82,8 @@ impl<'a> Tokens<'a> {
             .map_or(0, |t| t.0)
     }
 
-    fn err(&self, reason: impl Into<String>) -> SynthError {
-        SynthError::BvhParse {
+    fn err(&self, reason: impl Into<String>) -> SkeletonError {
+        SkeletonError::BvhParse {
             line: self.line(),
             reason: reason.into(),
         }
