@@ -24,7 +24,6 @@
 
 mod analysis;
 mod error;
-pub mod evaluate;
 mod long_audio;
 pub mod networks;
 mod pipeline;

@@ -95,6 +95,7 @@ fn peak_offset_frames(probs: &[f32], f: usize) -> f64 {
 }
 
 /// The decoder (threshold 0.2–0.9, spacing 2–4 frames) with the best F1 at ±2 frames.
+#[cfg(feature = "train")]
 pub fn tune_decoder(probs: &[Vec<f32>], val: &[crate::data::Recording]) -> (Decoder, f64) {
     let mut best = (Decoder::default(), -1.0);
     for spacing in 2..=4 {

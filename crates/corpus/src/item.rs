@@ -8,9 +8,9 @@ use crate::augment::Augmentation;
 use crate::error::CorpusError;
 use crate::etude::{generate, EtudeConfig};
 use crate::render::{RenderSettings, Renderer};
-use crate::rng::Rng;
 use crate::score::Etude;
 use crate::timing::{play, Timeline};
+use net_core::rng::Rng;
 
 /// Which renderer made an item.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]

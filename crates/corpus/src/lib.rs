@@ -31,7 +31,6 @@ pub mod manifest;
 pub mod melodies;
 pub mod midi;
 pub mod render;
-pub mod rng;
 pub mod score;
 pub mod stats;
 pub mod timing;

@@ -3,8 +3,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::rng::Rng;
 use crate::score::Etude;
+use net_core::rng::Rng;
 
 /// A note as played, in seconds.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

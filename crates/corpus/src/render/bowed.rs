@@ -17,8 +17,8 @@
 use crate::render::biquad::Biquad;
 use crate::render::portato::portato_gain;
 use crate::render::{RenderError, RenderSettings, Renderer};
-use crate::rng::Rng;
 use crate::timing::{TimedNote, Timeline};
+use net_core::rng::Rng;
 
 /// Tunable constants of the synthesizer.
 #[derive(Debug, Clone, PartialEq)]

@@ -14,8 +14,8 @@ use rustysynth::{SoundFont, Synthesizer, SynthesizerSettings};
 
 use crate::render::portato::portato_gain;
 use crate::render::{RenderError, RenderSettings, Renderer};
-use crate::rng::Rng;
 use crate::timing::{TimedNote, Timeline};
+use net_core::rng::Rng;
 
 /// Samples rendered between control updates (pitch bend, events).
 const BLOCK: usize = 64;

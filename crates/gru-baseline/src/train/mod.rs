@@ -3,7 +3,6 @@
 //! weights kept, a checkpoint for `--resume`, learning-rate halving on plateaus and early
 //! stopping. Every random draw comes from the seed.
 
-mod adam;
 mod batch;
 mod checkpoint;
 mod schedule;
@@ -13,10 +12,10 @@ use std::time::Instant;
 
 use candle_core::{DType, Device, Var};
 use candle_nn::VarBuilder;
-use corpus::rng::Rng;
+use net_core::rng::Rng;
+use net_core::{Adam, AdamConfig};
 use serde::{Deserialize, Serialize};
 
-pub use adam::Adam;
 pub use checkpoint::{checkpoint_path, Progress};
 pub use schedule::{plan_epoch, Window};
 
@@ -223,14 +222,20 @@ pub fn train(
         &opts.config,
         VarBuilder::from_varmap(&vars, DType::F32, &Device::Cpu),
     )?;
-    let named: Vec<(String, Var)> = vars
+    let mut named: Vec<(String, Var)> = vars
         .data()
         .lock()
         .map_err(|_| GruError::Config("the variable map is poisoned".into()))?
         .iter()
         .map(|(k, v)| (k.clone(), v.clone()))
         .collect();
-    let mut adam = Adam::new(named.clone(), tcfg.learning_rate)?;
+    // Sorted by name: a stable order for the gradient norm's sum.
+    named.sort_by(|a, b| a.0.cmp(&b.0));
+    let adam_config = AdamConfig {
+        learning_rate: tcfg.learning_rate,
+        ..AdamConfig::default()
+    };
+    let mut adam = Adam::new(named.clone(), adam_config)?;
     let mut state = Progress {
         epochs_done: 0,
         adam_steps: 0,
@@ -259,13 +264,10 @@ pub fn train(
                 })?;
             var.set(t)?;
         }
-        adam.restore(
-            &|k| ck.tensors.get(&format!("adam.{k}")).cloned(),
-            ck.progress.adam_steps,
-        )?;
+        adam.load_state(&ck.tensors)?;
         net.set_normalization(ck.mel_stats, ck.target)?;
         state = ck.progress;
-        adam.learning_rate = state.learning_rate;
+        adam.config.learning_rate = state.learning_rate;
     } else {
         // Standardised targets: the head's zero bias starts at the mean pose, so the first
         // updates learn motion instead of where the body stands.
@@ -314,7 +316,7 @@ pub fn train(
             let (pred, next) = net.forward_state(&x, start.as_ref(), true)?;
             let loss = tcfg.loss.compute(&pred, &y, Some(&mask))?;
             let value = f64::from(loss.to_scalar::<f32>()?);
-            adam.step(&loss.backward()?, Some(tcfg.clip_grad_norm))?;
+            adam.step_clipped(&loss.backward()?, Some(tcfg.clip_grad_norm))?;
             carried = Some(next);
             loss_sum += value;
             progress(&TrainEvent::Step {
@@ -332,9 +334,9 @@ pub fn train(
         let train_loss = loss_sum / steps.max(1) as f64;
         let criterion = val.map_or(train_loss, |v| v.loss);
         let improved = criterion < state.best_loss;
-        let lr_used = adam.learning_rate;
+        let lr_used = adam.config.learning_rate;
         state.epochs_done = epoch;
-        state.adam_steps = adam.steps_taken();
+        state.adam_steps = adam.steps();
         state.wall_time_s += t0.elapsed().as_secs_f64();
         if improved {
             state.best_loss = criterion;
@@ -343,10 +345,10 @@ pub fn train(
         } else {
             state.epochs_since_best += 1;
             if state.epochs_since_best.is_multiple_of(tcfg.lr_patience) {
-                adam.learning_rate = (adam.learning_rate * 0.5).max(1e-5);
+                adam.config.learning_rate = (adam.config.learning_rate * 0.5).max(1e-5);
             }
         }
-        state.learning_rate = adam.learning_rate;
+        state.learning_rate = adam.config.learning_rate;
         let report = EpochReport {
             epoch,
             train_loss,
