@@ -222,3 +222,24 @@ pub fn validation_f1(
     }
     Ok((counts.f1(), all))
 }
+
+/// The decoder (threshold 0.2–0.9, spacing 2–4 frames) with the best F1 at ±2 frames.
+pub fn tune_decoder(probs: &[Vec<f32>], val: &[crate::data::Recording]) -> (crate::Decoder, f64) {
+    let mut best = (crate::Decoder::default(), -1.0);
+    for spacing in 2..=4 {
+        for k in 0..=14 {
+            let d = crate::Decoder {
+                threshold: 0.2 + 0.05 * k as f32,
+                min_spacing_frames: spacing,
+            };
+            let mut c = Counts::default();
+            for (p, r) in probs.iter().zip(val) {
+                c.add(&match_events(&d.pick(p), &r.changes, 2));
+            }
+            if c.f1() > best.1 {
+                best = (d, c.f1());
+            }
+        }
+    }
+    best
+}

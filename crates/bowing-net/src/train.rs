@@ -32,11 +32,11 @@ use serde::{Deserialize, Serialize};
 
 use crate::batch::{batch_targets, frame_labels, plan_epoch, sequence_input, Augment, Weighting};
 use crate::data::{Recording, Splits};
-use crate::decode::{tune_decoder, Decoder};
+use crate::decode::Decoder;
 use crate::detector::{BowChangeDetector, FORMAT_VERSION};
 use crate::error::{NetError, Result};
 use crate::infer::sequence_frames;
-use crate::metrics::validation_f1;
+use crate::metrics::{tune_decoder, validation_f1};
 use crate::model::{BowingNet, Config, WeightInit, PHASES};
 use net_core::frames::pad_value;
 use net_core::nn::weighted_cross_entropy;

@@ -10,7 +10,7 @@ use candle_core::Tensor;
 use net_core::Adam;
 use serde::{Deserialize, Serialize};
 
-use super::{EpochReport, TrainConfig};
+use super::settings::{EpochReport, TrainConfig};
 use crate::config::Config;
 use crate::error::Result;
 use crate::model::GruBaseline;
