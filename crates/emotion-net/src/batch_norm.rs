@@ -79,7 +79,7 @@ impl BatchNormNhwc {
     }
 
     fn poisoned() -> crate::EmotionError {
-        EmotionError::Config("batch-norm statistics poisoned".into()).into()
+        EmotionError::Config("batch-norm statistics poisoned".into())
     }
 
     pub(crate) fn forward(&self, x: &Tensor, pass: BnPass) -> Result<Tensor> {

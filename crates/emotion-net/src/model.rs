@@ -172,23 +172,22 @@ impl Config {
             self.maxout_pieces,
         ];
         if positive.contains(&0) || self.kernel_size.is_multiple_of(2) {
-            return Err(
-                EmotionError::Config("sizes must be positive and the kernel odd".into()).into(),
-            );
+            return Err(EmotionError::Config(
+                "sizes must be positive and the kernel odd".into(),
+            ));
         }
         if let GainNorm::TrackQuantile(q) = self.gain_norm {
             if !(0.0..=1.0).contains(&q) {
                 return Err(EmotionError::Config(format!(
                     "the gain-normalisation quantile must be in [0, 1], got {q}"
-                ))
-                .into());
+                )));
             }
         }
         for p in [self.conv_dropout, self.dense_dropout, self.gru_dropout] {
             if !(0.0..1.0).contains(&p) {
-                return Err(
-                    EmotionError::Config(format!("dropout must be in [0, 1), got {p}")).into(),
-                );
+                return Err(EmotionError::Config(format!(
+                    "dropout must be in [0, 1), got {p}"
+                )));
             }
         }
         Ok(())
@@ -311,8 +310,7 @@ impl EmotionNet {
             return Err(EmotionError::Input(format!(
                 "windows are {t}×{m}, the network takes steps × {} bands",
                 self.cfg.n_mels
-            ))
-            .into());
+            )));
         }
         let pass = if train { BnPass::Train } else { BnPass::Infer };
         let x = self.conv_stack(windows, pass)?;

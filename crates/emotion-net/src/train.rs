@@ -134,16 +134,16 @@ fn check_tracks(tracks: &[ArousalTrack], what: &str, bands: usize) -> Result<()>
     if tracks.iter().all(|t| t.arousal.is_empty()) {
         return Err(EmotionError::Input(format!(
             "no annotated {what} tracks: the data needs train and validation items"
-        ))
-        .into());
+        )));
     }
     for t in tracks {
         net_core::frames::check_mel(t.mel_db.view(), bands)
             .map_err(|e| EmotionError::Input(format!("{}: {e}", t.name)))?;
         if t.arousal.iter().any(|v| !v.is_finite()) {
-            return Err(
-                EmotionError::Input(format!("{}: non-finite arousal target", t.name)).into(),
-            );
+            return Err(EmotionError::Input(format!(
+                "{}: non-finite arousal target",
+                t.name
+            )));
         }
     }
     Ok(())
@@ -175,9 +175,9 @@ pub fn train(
     let mcfg = &cfg.model;
     mcfg.validate()?;
     if cfg.batch_windows == 0 || cfg.window_hop == 0 {
-        return Err(
-            EmotionError::Config("batch_windows and window_hop must be positive".into()).into(),
-        );
+        return Err(EmotionError::Config(
+            "batch_windows and window_hop must be positive".into(),
+        ));
     }
     check_tracks(&data.train, "training", mcfg.n_mels)?;
     check_tracks(&data.val, "validation", mcfg.n_mels)?;
@@ -232,8 +232,7 @@ pub fn train(
             return Err(EmotionError::weights(
                 &ckpt,
                 "the checkpoint's network shape differs from the requested one",
-            )
-            .into());
+            ));
         }
         vars::load_into(&varmap, &file.tensors, &ckpt)?;
         adam.load_state(&file.tensors)?;
@@ -285,8 +284,7 @@ pub fn train(
             if !value.is_finite() {
                 return Err(EmotionError::Input(format!(
                     "training diverged (loss {value}); lower the learning rate"
-                ))
-                .into());
+                )));
             }
             adam.backward_step(&loss)?;
             loss_sum += f64::from(value);
