@@ -24,9 +24,6 @@ pub enum Error {
     /// Motion files.
     #[error(transparent)]
     Skeleton(#[from] skeleton::SkeletonError),
-    /// Reading or measuring a skeleton (OpenPose folders, bowing attacks).
-    #[error(transparent)]
-    Pose(#[from] pose_preproc::PosePreprocError),
     /// MIDI input or corpus rendering.
     #[error(transparent)]
     Corpus(#[from] corpus::CorpusError),
@@ -48,14 +45,6 @@ pub enum Error {
         duration_s: f64,
         /// The shortest length accepted, in seconds.
         min_s: f64,
-    },
-    /// A labelled dataset folder (corpus or URMP layout) is missing files or malformed.
-    #[error("{path}: {reason}")]
-    Dataset {
-        /// The file or folder.
-        path: std::path::PathBuf,
-        /// What is wrong and what to do.
-        reason: String,
     },
     /// A network failed or its weights do not fit.
     #[error("{0}")]

@@ -23,7 +23,6 @@
 //! ```
 
 mod error;
-pub mod evaluate;
 mod long_audio;
 pub mod networks;
 mod pipeline;

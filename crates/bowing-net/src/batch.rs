@@ -4,13 +4,13 @@
 //! (widened labels) and a loss weight (class balance, hard negatives); inputs can be
 //! augmented.
 
-use corpus::rng::Rng;
 use ndarray::ArrayView2;
+use net_core::rng::Rng;
 use serde::{Deserialize, Serialize};
 
 use crate::data::Recording;
-use crate::infer::copy_frames;
 use crate::model::window_start;
+use net_core::frames::copy_frames;
 
 /// Random changes to each training sequence's spectrogram (one draw per sequence).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]

@@ -94,27 +94,6 @@ fn peak_offset_frames(probs: &[f32], f: usize) -> f64 {
     (0.5 * (a - c) / curvature).clamp(-0.5, 0.5)
 }
 
-/// The decoder (threshold 0.2–0.9, spacing 2–4 frames) with the best F1 at ±2 frames.
-pub fn tune_decoder(probs: &[Vec<f32>], val: &[crate::data::Recording]) -> (Decoder, f64) {
-    let mut best = (Decoder::default(), -1.0);
-    for spacing in 2..=4 {
-        for k in 0..=14 {
-            let d = Decoder {
-                threshold: 0.2 + 0.05 * k as f32,
-                min_spacing_frames: spacing,
-            };
-            let mut c = crate::metrics::Counts::default();
-            for (p, r) in probs.iter().zip(val) {
-                c.add(&crate::metrics::match_events(&d.pick(p), &r.changes, 2));
-            }
-            if c.f1() > best.1 {
-                best = (d, c.f1());
-            }
-        }
-    }
-    best
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

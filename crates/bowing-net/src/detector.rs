@@ -13,8 +13,8 @@ use crate::error::{NetError, Result};
 use crate::features::{bowing_mel, FPS};
 use crate::infer::frame_probabilities;
 use crate::model::{BowingNet, Config, DTYPE};
-use net_store::file::{self, TensorFile};
-use net_store::vars;
+use net_core::file::{self, TensorFile};
+use net_core::vars;
 
 /// Value of the `format` metadata entry of bowing-net weights.
 pub const FORMAT_NAME: &str = "violin-skeleton/bowing-net";

@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-/// Everything bowing-net (and emotion-net, which reuses [`crate::nn`]) can fail with.
+/// Everything bowing-net can fail with.
 #[derive(Debug, thiserror::Error)]
 pub enum NetError {
     /// A tensor operation failed (a shape or dtype bug, or out of memory).
@@ -27,10 +27,13 @@ pub enum NetError {
     Dsp(#[from] dsp_mel::DspError),
     /// A weights or checkpoint file could not be read, written or used.
     #[error(transparent)]
-    Store(#[from] net_store::StoreError),
-    /// Reading an OpenPose directory failed.
-    #[error(transparent)]
-    Pose(#[from] pose_preproc::PosePreprocError),
+    Store(#[from] net_core::StoreError),
+}
+
+impl From<net_core::frames::InputError> for NetError {
+    fn from(e: net_core::frames::InputError) -> Self {
+        NetError::Input(e.0)
+    }
 }
 
 /// Shorthand for results of this crate.
@@ -45,8 +48,8 @@ impl NetError {
         }
     }
 
-    /// A weights file that cannot be used ([`net_store::StoreError::Weights`]) for `path`.
+    /// A weights file that cannot be used ([`net_core::StoreError::Weights`]) for `path`.
     pub fn weights(path: impl Into<PathBuf>, reason: impl std::fmt::Display) -> Self {
-        NetError::Store(net_store::StoreError::weights(path, reason))
+        NetError::Store(net_core::StoreError::weights(path, reason))
     }
 }

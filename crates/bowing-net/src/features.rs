@@ -3,9 +3,9 @@
 use std::path::Path;
 
 use dsp_mel::{resample, Audio, DbConfig, MelConfig, MelSpectrogram, DEFAULT_ANALYSIS_RATE_HZ};
-use ndarray::{Array2, ArrayView2};
+use ndarray::Array2;
 
-use crate::error::{NetError, Result};
+use crate::error::Result;
 
 /// Frames per second of the bowing network's input and output.
 pub const FPS: f64 = 30.0;
@@ -25,28 +25,6 @@ pub fn bowing_mel(audio: &Audio) -> Result<Array2<f32>> {
 /// [`bowing_mel`] of an audio file.
 pub fn bowing_mel_of_file(path: &Path) -> Result<Array2<f32>> {
     bowing_mel(&dsp_mel::load_audio(path)?)
-}
-
-/// Checks a `(frames, bands)` input: at least one frame, `bands` wide, every value finite.
-pub fn check_mel(mel: ArrayView2<f32>, bands: usize) -> Result<()> {
-    let (frames, width) = mel.dim();
-    if frames == 0 {
-        return Err(NetError::Input(
-            "the spectrogram has no frames (empty or too short audio)".into(),
-        ));
-    }
-    if width != bands {
-        return Err(NetError::Input(format!(
-            "the spectrogram has {width} bands, the network takes {bands}: use the matching mel configuration"
-        )));
-    }
-    if let Some(pos) = mel.iter().position(|v| !v.is_finite()) {
-        return Err(NetError::Input(format!(
-            "the spectrogram holds a non-finite value at frame {}",
-            pos / width.max(1)
-        )));
-    }
-    Ok(())
 }
 
 /// Frame index (rounded) of a time in seconds at [`FPS`].

@@ -6,10 +6,10 @@
 
 use candle_core::{Device, Tensor};
 use ndarray::ArrayView2;
+use net_core::frames::{check_mel, copy_frames, pad_value};
 use rayon::prelude::*;
 
 use crate::error::{NetError, Result};
-use crate::features::check_mel;
 use crate::model::{window_start, BowingNet, PHASES};
 
 /// Windows (frames) classified per tile.
@@ -21,28 +21,6 @@ pub const SEQUENCE_SLACK: usize = 2 * PHASES;
 /// Frames of input a sequence needs to classify `windows` windows.
 pub fn sequence_frames(net: &BowingNet, windows: usize) -> usize {
     windows + net.config().window_frames - 1 + SEQUENCE_SLACK
-}
-
-/// The value used for frames before the start and after the end of a recording: its
-/// quietest value (silence).
-pub fn pad_value(mel: ArrayView2<f32>) -> f32 {
-    mel.iter().copied().fold(f32::INFINITY, f32::min)
-}
-
-/// Copies `len` frames of `mel` starting at frame `first` (may be negative or run past the
-/// end: those frames are `pad`) into `dst` (`len × bands`).
-pub fn copy_frames(mel: ArrayView2<f32>, first: isize, len: usize, pad: f32, dst: &mut [f32]) {
-    let bands = mel.ncols();
-    for (k, row) in dst.chunks_exact_mut(bands).take(len).enumerate() {
-        let f = first + k as isize;
-        if f >= 0 && (f as usize) < mel.nrows() {
-            for (d, s) in row.iter_mut().zip(mel.row(f as usize)) {
-                *d = *s;
-            }
-        } else {
-            row.fill(pad);
-        }
-    }
 }
 
 /// Per-frame probabilities that a bow change happens at that frame, for a `(frames, 128)`

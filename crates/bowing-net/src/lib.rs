@@ -8,16 +8,15 @@
 //!   classifies every frame of a recording with shared convolutions;
 //! * [`infer`]: stride-1 frame probabilities; [`decode`]: threshold + peak picking with a
 //!   minimum spacing; [`metrics`]: P/R/F1 with a frame tolerance;
-//! * [`data`]: labelled recordings from the synthetic corpus or a URMP-style folder
-//!   (labels from OpenPose skeletons through `pose-preproc`); [`train`]: the training loop
-//!   (Adam, class-balanced loss, early stopping, checkpoints and resume);
+//! * with the `train` feature: `data` (labelled recordings in memory; `violin-train` reads
+//!   them from the corpus or URMP), `train` (the training loop: Adam, class-balanced loss,
+//!   early stopping, checkpoints and resume), `batch` (training sequences, frame targets and
+//!   loss weights, augmentation) and `metrics` (P/R/F1 with a frame tolerance);
 //! * [`BowChangeDetector`]: weights + normalisation + decoder in one safetensors file;
 //!   [`BowChangeDetector::pretrained`] is the shipped default (see the README for how it was
 //!   trained);
-//! * [`batch`]: training sequences, frame targets and loss weights, augmentation;
-//! * [`nn`]: layers shared with emotion-net (fast NHWC convolution, max pools with a
-//!   correct backward, seeded dropout); weights files, Adam, schedules and checkpoints come
-//!   from `net-store`.
+//! * layers (fast NHWC convolution, max pools with a correct backward, seeded dropout),
+//!   weights files, Adam, schedules and checkpoints come from `net-core`.
 //!
 //! ```no_run
 //! use bowing_net::{features::bowing_mel, BowChangeDetector};
@@ -28,20 +27,24 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+#[cfg(feature = "train")]
 pub mod batch;
+#[cfg(feature = "train")]
 pub mod data;
 pub mod decode;
 pub mod detector;
 mod error;
 pub mod features;
 pub mod infer;
+#[cfg(feature = "train")]
 pub mod metrics;
 pub mod model;
-pub mod nn;
+#[cfg(feature = "train")]
 pub mod train;
 
 pub use decode::Decoder;
 pub use detector::BowChangeDetector;
 pub use error::{NetError, Result};
 pub use model::{BowingNet, Config};
+#[cfg(feature = "train")]
 pub use train::{train, TrainConfig, TrainProgress, TrainReport};

@@ -4,7 +4,6 @@
 
 use std::collections::BTreeMap;
 
-pub use pose_preproc::metrics::{match_events, EventMatch};
 use serde::{Deserialize, Serialize};
 
 /// Matched / unmatched counts that add up over recordings.
@@ -19,8 +18,8 @@ pub struct Counts {
 }
 
 impl Counts {
-    /// Adds one recording's match.
-    pub fn add(&mut self, m: &EventMatch) {
+    /// Adds one recording's counts.
+    pub fn add(&mut self, m: &Counts) {
         self.true_positives += m.true_positives;
         self.false_positives += m.false_positives;
         self.false_negatives += m.false_negatives;
@@ -62,8 +61,41 @@ impl Counts {
     }
 }
 
-/// Which predictions are matched to a reference event (same closest-first, one-to-one rule
-/// as [`match_events`]); both lists sorted.
+/// Matches `predicted` to `truth` (frame indices) one-to-one: a pair matches when the
+/// frames differ by at most `tolerance`; pairs are taken greedily from the closest up, each
+/// event used once (the rule of `pose_preproc::metrics::match_events`).
+///
+/// ```
+/// use bowing_net::metrics::match_events;
+/// let m = match_events(&[10, 31, 70], &[12, 30, 50], 2);
+/// assert_eq!((m.true_positives, m.false_positives, m.false_negatives), (2, 1, 1));
+/// assert!((m.f1() - 2.0 / 3.0).abs() < 1e-12);
+/// ```
+pub fn match_events(predicted: &[usize], truth: &[usize], tolerance: usize) -> Counts {
+    let sorted: Vec<usize>;
+    let truth = if truth.is_sorted() {
+        truth
+    } else {
+        sorted = {
+            let mut v = truth.to_vec();
+            v.sort_unstable();
+            v
+        };
+        &sorted
+    };
+    let true_positives = matched_predictions(predicted, truth, tolerance)
+        .iter()
+        .filter(|&&m| m)
+        .count();
+    Counts {
+        true_positives,
+        false_positives: predicted.len() - true_positives,
+        false_negatives: truth.len() - true_positives,
+    }
+}
+
+/// Which predictions are matched to a reference event (the closest-first, one-to-one rule
+/// of [`match_events`]); `truth` sorted.
 pub fn matched_predictions(predicted: &[usize], truth: &[usize], tolerance: usize) -> Vec<bool> {
     let mut pairs: Vec<(usize, usize, usize)> = Vec::new();
     for (i, &p) in predicted.iter().enumerate() {
@@ -189,4 +221,25 @@ pub fn validation_f1(
         all.push(p);
     }
     Ok((counts.f1(), all))
+}
+
+/// The decoder (threshold 0.2–0.9, spacing 2–4 frames) with the best F1 at ±2 frames.
+pub fn tune_decoder(probs: &[Vec<f32>], val: &[crate::data::Recording]) -> (crate::Decoder, f64) {
+    let mut best = (crate::Decoder::default(), -1.0);
+    for spacing in 2..=4 {
+        for k in 0..=14 {
+            let d = crate::Decoder {
+                threshold: 0.2 + 0.05 * k as f32,
+                min_spacing_frames: spacing,
+            };
+            let mut c = Counts::default();
+            for (p, r) in probs.iter().zip(val) {
+                c.add(&match_events(&d.pick(p), &r.changes, 2));
+            }
+            if c.f1() > best.1 {
+                best = (d, c.f1());
+            }
+        }
+    }
+    best
 }

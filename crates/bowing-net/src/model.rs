@@ -19,7 +19,9 @@ use candle_nn::{Init, Linear, VarBuilder, VarMap};
 use serde::{Deserialize, Serialize};
 
 use crate::error::{NetError, Result};
-use crate::nn::{conv2d_relu_nhwc, max_pool2x2_nhwc, pool_phases_nhwc, DropoutRng, SeededDropout};
+use net_core::nn::{
+    conv2d_relu_nhwc, max_pool2x2_nhwc, pool_phases_nhwc, DropoutRng, SeededDropout,
+};
 
 /// The network's shape (SPEC §4 by default).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -129,7 +131,7 @@ impl WeightInit {
     /// ```
     pub fn bound(self, dims: &[usize]) -> f64 {
         match self {
-            WeightInit::GlorotUniform => net_store::vars::glorot_bound(dims),
+            WeightInit::GlorotUniform => net_core::vars::glorot_bound(dims),
             WeightInit::HeUniform => {
                 let fan_in: usize = dims.iter().skip(1).product();
                 (6.0 / fan_in.max(1) as f64).sqrt()
@@ -220,13 +222,13 @@ impl BowingNet {
     /// ```
     /// use bowing_net::{model::WeightInit, BowingNet};
     /// let (varmap, net) = BowingNet::seeded(&Default::default(), WeightInit::GlorotUniform, 7)?;
-    /// assert_eq!(net_store::vars::var_shapes(&varmap).len(), 14);
+    /// assert_eq!(net_core::vars::var_shapes(&varmap).len(), 14);
     /// # Ok::<(), bowing_net::NetError>(())
     /// ```
     pub fn seeded(cfg: &Config, init: WeightInit, seed: u64) -> Result<(VarMap, Self)> {
         let varmap = VarMap::new();
         let net = Self::new(cfg, VarBuilder::from_varmap(&varmap, DTYPE, &Device::Cpu))?;
-        net_store::vars::init_seeded(&varmap, seed, |name, dims| {
+        net_core::vars::init_seeded(&varmap, seed, |name, dims| {
             if name.starts_with("norm.") {
                 None
             } else if name.ends_with("bias") {

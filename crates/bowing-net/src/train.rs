@@ -23,8 +23,8 @@ use std::time::Instant;
 
 use candle_core::{Device, Tensor};
 use candle_nn::VarMap;
-use corpus::rng::Rng;
-use net_store::{
+use net_core::rng::Rng;
+use net_core::{
     checkpoint_path, load_checkpoint, save_checkpoint, set_band_statistics, vars, Adam, AdamConfig,
     LrSchedule, TrainState,
 };
@@ -32,13 +32,14 @@ use serde::{Deserialize, Serialize};
 
 use crate::batch::{batch_targets, frame_labels, plan_epoch, sequence_input, Augment, Weighting};
 use crate::data::{Recording, Splits};
-use crate::decode::{tune_decoder, Decoder};
+use crate::decode::Decoder;
 use crate::detector::{BowChangeDetector, FORMAT_VERSION};
 use crate::error::{NetError, Result};
-use crate::infer::{pad_value, sequence_frames};
-use crate::metrics::validation_f1;
+use crate::infer::sequence_frames;
+use crate::metrics::{tune_decoder, validation_f1};
 use crate::model::{BowingNet, Config, WeightInit, PHASES};
-use crate::nn::weighted_cross_entropy;
+use net_core::frames::pad_value;
+use net_core::nn::weighted_cross_entropy;
 
 /// Training settings (JSON: any subset of the fields; unknown fields are refused so that a
 /// typo is not silently ignored).
@@ -164,7 +165,7 @@ fn check_recordings(recs: &[Recording], what: &str, bands: usize) -> Result<()> 
         )));
     }
     for r in recs {
-        crate::features::check_mel(r.mel_db.view(), bands)
+        net_core::frames::check_mel(r.mel_db.view(), bands)
             .map_err(|e| NetError::Input(format!("{}: {e}", r.name)))?;
     }
     Ok(())

@@ -3,15 +3,15 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use bowing_net::model::WeightInit;
-use bowing_net::nn::{
-    conv2d_nhwc, conv2d_relu_nhwc, max_pool2x2_nhwc, pool_phases_nhwc, weighted_cross_entropy,
-};
 use bowing_net::{BowingNet, Config};
 use candle_core::{Device, Tensor, Var};
 use candle_nn::VarMap;
-use corpus::rng::Rng;
-use net_store::gradcheck::{check_input_gradient, check_parameter_gradients, uniform_tensor};
-use net_store::vars;
+use net_core::gradcheck::{check_input_gradient, check_parameter_gradients, uniform_tensor};
+use net_core::nn::{
+    conv2d_nhwc, conv2d_relu_nhwc, max_pool2x2_nhwc, pool_phases_nhwc, weighted_cross_entropy,
+};
+use net_core::rng::Rng;
+use net_core::vars;
 
 fn random(shape: &[usize], seed: u64) -> Tensor {
     uniform_tensor(shape, seed, 1.0).unwrap()

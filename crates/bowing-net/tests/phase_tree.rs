@@ -5,8 +5,8 @@ use bowing_net::infer::{frame_probabilities, frame_probabilities_per_window, TIL
 use bowing_net::model::WeightInit;
 use bowing_net::{BowingNet, Config};
 use candle_nn::VarMap;
-use corpus::rng::Rng;
 use ndarray::Array2;
+use net_core::rng::Rng;
 
 fn random_net(seed: u64) -> (VarMap, BowingNet) {
     BowingNet::seeded(&Config::default(), WeightInit::HeUniform, seed).unwrap()

@@ -43,6 +43,9 @@ pub enum CliError {
     /// Training or running the emotion network failed.
     #[error(transparent)]
     EmotionNet(#[from] violin_skeleton::emotion_net::EmotionError),
+    /// Loading training data or evaluating failed.
+    #[error(transparent)]
+    Train(#[from] violin_train::TrainError),
     /// An output could not be written.
     #[error("{path}: cannot write output: {reason}")]
     Output {

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::{Args, ValueEnum};
-use violin_skeleton::evaluate::{evaluate_dir, SplitChoice};
+use violin_train::evaluate::{evaluate_dir, SplitChoice};
 
 use crate::error::CliError;
 use crate::generate::{pipeline_for, MethodArg, NetworkWeights, PlannerArg};

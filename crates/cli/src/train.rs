@@ -122,7 +122,7 @@ pub fn loading_bar(report: &Reporter, what: &str) -> indicatif::ProgressBar {
 fn train_bowing(args: &TrainArgs, report: &Reporter) -> Result<(), CliError> {
     let t0 = Instant::now();
     let bar = loading_bar(report, "loading");
-    let data = bowing_net::data::load_dataset(&args.data, &|done, total| {
+    let data = violin_train::bowing_data::load_dataset(&args.data, &|done, total| {
         bar.set_length(total as u64);
         bar.set_position(done as u64);
     })?;
@@ -191,7 +191,7 @@ fn train_bowing(args: &TrainArgs, report: &Reporter) -> Result<(), CliError> {
 fn train_emotion(args: &TrainArgs, report: &Reporter) -> Result<(), CliError> {
     let t0 = Instant::now();
     let bar = loading_bar(report, "loading");
-    let data = emotion_net::data::load_dataset(&args.data, &|done, total| {
+    let data = violin_train::emotion_data::load_dataset(&args.data, &|done, total| {
         bar.set_length(total as u64);
         bar.set_position(done as u64);
     })?;

@@ -2,10 +2,10 @@
 
 use std::time::Instant;
 
-use violin_skeleton::gru_baseline::data::load_dataset;
 use violin_skeleton::gru_baseline::eval::evaluate;
 use violin_skeleton::gru_baseline::train::{train, TrainConfig, TrainEvent, TrainOptions};
 use violin_skeleton::gru_baseline::{Config, GruBaseline, Loss, StorageDtype};
+use violin_train::gru_data::load_dataset;
 
 use crate::error::CliError;
 use crate::train::{describe, loading_bar, write_json, TrainArgs};

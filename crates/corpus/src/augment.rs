@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::rng::Rng;
+use net_core::rng::Rng;
 
 /// The augmentation drawn for one item.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

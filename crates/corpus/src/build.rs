@@ -11,8 +11,8 @@ use crate::item::{make_item, RendererKind};
 use crate::layout::{write_atomic, write_item};
 use crate::manifest::{Manifest, ManifestItem, Split, MANIFEST_VERSION};
 use crate::render::{BowedStringSynth, Renderer, SoundFontRenderer};
-use crate::rng::Rng;
 use crate::stats::CorpusStats;
+use net_core::rng::Rng;
 
 /// Which renderer(s) make the audio.
 #[derive(Debug, Clone, PartialEq)]

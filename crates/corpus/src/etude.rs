@@ -3,8 +3,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::rng::Rng;
 use crate::score::{Etude, Meter, ScoreNote};
+use net_core::rng::Rng;
 
 /// Lowest pitch (open G string).
 pub const LOWEST_MIDI: u8 = 55;

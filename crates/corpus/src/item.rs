@@ -9,9 +9,9 @@ use crate::augment::Augmentation;
 use crate::error::CorpusError;
 use crate::etude::{generate, EtudeConfig};
 use crate::render::{RenderSettings, Renderer};
-use crate::rng::Rng;
 use crate::score::Etude;
 use crate::timing::play;
+use net_core::rng::Rng;
 use performance::Timeline;
 
 /// Which renderer made an item.

@@ -30,7 +30,6 @@ pub mod layout;
 pub mod manifest;
 pub mod melodies;
 pub mod render;
-pub mod rng;
 pub mod score;
 pub mod stats;
 pub mod timing;

@@ -3,8 +3,8 @@
 
 use performance::{arousal_proxy, Note, TimedNote, Timeline};
 
-use crate::rng::Rng;
 use crate::score::Etude;
+use net_core::rng::Rng;
 
 /// Rubato: the tempo factor is `1 + depth · sin(2π · beat / period + phase)`, with depth up to
 /// 5 % and a period of 8–24 beats, so tempo breathes over phrases without jumping.

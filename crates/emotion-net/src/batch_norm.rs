@@ -3,11 +3,10 @@
 
 use std::sync::Mutex;
 
-use bowing_net::NetError;
 use candle_core::{Tensor, D};
 use candle_nn::{Init, VarBuilder};
 
-use crate::error::Result;
+use crate::error::{EmotionError, Result};
 
 /// How a forward pass treats batch norm.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -80,7 +79,7 @@ impl BatchNormNhwc {
     }
 
     fn poisoned() -> crate::EmotionError {
-        NetError::Config("batch-norm statistics poisoned".into()).into()
+        EmotionError::Config("batch-norm statistics poisoned".into())
     }
 
     pub(crate) fn forward(&self, x: &Tensor, pass: BnPass) -> Result<Tensor> {

@@ -4,15 +4,14 @@
 use std::collections::HashMap;
 use std::path::Path;
 
-use bowing_net::features::check_mel;
-use bowing_net::NetError;
 use candle_core::{DType, Device, Tensor};
 use candle_nn::{VarBuilder, VarMap};
 use ndarray::ArrayView2;
-use net_store::file::{self, TensorFile};
-use net_store::vars;
+use net_core::file::{self, TensorFile};
+use net_core::frames::check_mel;
+use net_core::vars;
 
-use crate::error::Result;
+use crate::error::{EmotionError, Result};
 use crate::features::emotion_mel;
 use crate::model::{Config, EmotionNet};
 
@@ -69,7 +68,7 @@ impl ArousalEstimator {
     fn from_file(file: TensorFile, path: &Path) -> Result<Self> {
         file.check_format(path, FORMAT_NAME, FORMAT_VERSION)?;
         let cfg: Config = file.meta_json("config", path)?;
-        cfg.validate().map_err(|e| NetError::weights(path, e))?;
+        cfg.validate().map_err(|e| EmotionError::weights(path, e))?;
         let tensors = file.take_expected(path, &expected_shapes(&cfg)?)?;
         let training = file.metadata.get("training").cloned().unwrap_or_default();
         Self::from_tensors(&cfg, tensors, training)
@@ -164,7 +163,7 @@ pub fn predict_with_hop(net: &EmotionNet, mel_db: ArrayView2<f32>, hop: usize) -
     let bands = cfg.n_mels;
     let mut buf = vec![0.0f32; starts.len() * t * bands];
     for (&s, chunk) in starts.iter().zip(buf.chunks_exact_mut(t * bands)) {
-        bowing_net::infer::copy_frames(mel_db, s as isize, t, pad, chunk);
+        net_core::frames::copy_frames(mel_db, s as isize, t, pad, chunk);
     }
     let x = Tensor::from_vec(buf, (starts.len(), t, bands), &Device::Cpu)?;
     let y = net.forward_t(&x, false)?.to_vec2::<f32>()?;

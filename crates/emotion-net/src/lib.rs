@@ -8,11 +8,11 @@
 //! * [`estimator`]: [`ArousalEstimator`] — weights + normalisation in one safetensors
 //!   file, whole-recording inference with overlap-averaged sliding windows;
 //!   [`ArousalEstimator::pretrained`] is the shipped default (see the README);
-//! * [`data`]: the corpus's arousal proxy (default training data) and a DEAM loader;
-//! * [`train`]: masked MSE, Adam, early stopping on validation Pearson r, checkpoints.
+//! * with the `train` feature: `data` (arousal-labelled tracks in memory; `violin-train`
+//!   reads them from the corpus or DEAM), `train` (masked MSE, Adam, early stopping on
+//!   validation Pearson r, checkpoints) and `evaluate` (Pearson r and RMSE).
 //!
-//! It reuses bowing-net's `nn` building blocks (convolution, seeded dropout, Adam, weights
-//! files).
+//! Layers (convolution, seeded dropout), Adam and weights files come from `net-core`.
 //!
 //! ```no_run
 //! let est = emotion_net::ArousalEstimator::pretrained()?;
@@ -22,15 +22,21 @@
 //! ```
 
 mod batch_norm;
+#[cfg(feature = "train")]
 pub mod data;
 mod error;
 pub mod estimator;
+#[cfg(feature = "train")]
 pub mod evaluate;
 pub mod features;
 pub mod model;
+#[cfg(feature = "train")]
 pub mod train;
+#[cfg(feature = "train")]
+mod windows;
 
 pub use error::{EmotionError, Result};
 pub use estimator::ArousalEstimator;
 pub use model::{Config, EmotionNet};
+#[cfg(feature = "train")]
 pub use train::{recalibrate_batch_norm, train, TrainConfig, TrainProgress, TrainReport};

@@ -8,15 +8,14 @@
 //! step. The SPEC names no activation for the convolutions; the original design's layer list
 //! gives ReLU for all three (and none for the dense layer, which stays linear).
 
-use bowing_net::nn::{conv2d_nhwc, DropoutRng, SeededDropout};
 use candle_core::{Module, Tensor, D};
 use candle_nn::rnn::{GRUConfig, RNN};
 use candle_nn::{Init, Linear, VarBuilder, GRU};
+use net_core::nn::{conv2d_nhwc, DropoutRng, SeededDropout};
 use serde::{Deserialize, Serialize};
 
 use crate::batch_norm::{BatchNormNhwc, BnPass};
-use crate::error::Result;
-use bowing_net::NetError;
+use crate::error::{EmotionError, Result};
 
 /// The network's shape (SPEC §7 by default).
 ///
@@ -173,21 +172,22 @@ impl Config {
             self.maxout_pieces,
         ];
         if positive.contains(&0) || self.kernel_size.is_multiple_of(2) {
-            return Err(
-                NetError::Config("sizes must be positive and the kernel odd".into()).into(),
-            );
+            return Err(EmotionError::Config(
+                "sizes must be positive and the kernel odd".into(),
+            ));
         }
         if let GainNorm::TrackQuantile(q) = self.gain_norm {
             if !(0.0..=1.0).contains(&q) {
-                return Err(NetError::Config(format!(
+                return Err(EmotionError::Config(format!(
                     "the gain-normalisation quantile must be in [0, 1], got {q}"
-                ))
-                .into());
+                )));
             }
         }
         for p in [self.conv_dropout, self.dense_dropout, self.gru_dropout] {
             if !(0.0..1.0).contains(&p) {
-                return Err(NetError::Config(format!("dropout must be in [0, 1), got {p}")).into());
+                return Err(EmotionError::Config(format!(
+                    "dropout must be in [0, 1), got {p}"
+                )));
             }
         }
         Ok(())
@@ -307,11 +307,10 @@ impl EmotionNet {
     pub fn forward_t(&self, windows: &Tensor, train: bool) -> Result<Tensor> {
         let (b, t, m) = windows.dims3()?;
         if m != self.cfg.n_mels || t == 0 {
-            return Err(NetError::Input(format!(
+            return Err(EmotionError::Input(format!(
                 "windows are {t}×{m}, the network takes steps × {} bands",
                 self.cfg.n_mels
-            ))
-            .into());
+            )));
         }
         let pass = if train { BnPass::Train } else { BnPass::Infer };
         let x = self.conv_stack(windows, pass)?;

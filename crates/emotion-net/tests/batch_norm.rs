@@ -4,7 +4,7 @@
 mod common;
 
 use emotion_net::Config;
-use net_store::gradcheck::uniform_tensor;
+use net_core::gradcheck::uniform_tensor;
 
 #[test]
 fn recalibrated_inference_matches_batch_statistics_on_the_calibration_batch() {

@@ -8,8 +8,8 @@ use candle_core::{Tensor, Var};
 use candle_nn::VarMap;
 use emotion_net::model::ConvActivation;
 use emotion_net::{Config, EmotionNet};
-use net_store::gradcheck::{check_input_gradient, check_parameter_gradients, uniform_tensor};
-use net_store::vars;
+use net_core::gradcheck::{check_input_gradient, check_parameter_gradients, uniform_tensor};
+use net_core::vars;
 
 fn random(shape: &[usize], seed: u64, scale: f64) -> Tensor {
     uniform_tensor(shape, seed, scale).unwrap()

@@ -51,9 +51,10 @@ pub enum GruError {
     /// A motion could not be built or read.
     #[error(transparent)]
     Skeleton(#[from] skeleton::SkeletonError),
-    /// An OpenPose directory could not be cleaned.
+    /// A checkpoint could not be written or read, or training diverged (shared code of
+    /// `net-core`).
     #[error(transparent)]
-    PosePreproc(#[from] pose_preproc::PosePreprocError),
+    Store(#[from] net_core::StoreError),
     /// A tensor operation failed (a bug or an exhausted machine; please report it).
     #[error("tensor operation failed: {0}")]
     Candle(#[from] candle_core::Error),

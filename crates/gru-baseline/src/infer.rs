@@ -13,9 +13,10 @@ use skeleton::Motion;
 use crate::chunking::{sounding_frames, Chunking};
 use crate::error::{GruError, Result};
 use crate::features::{check_mel, mel_frames, FPS};
+use crate::gates::Biases;
 use crate::model::GruBaseline;
 use crate::packed::PackedMatrix;
-use crate::recurrence::{forward_parallel, Biases};
+use crate::recurrence::forward_parallel;
 
 /// Frames per time segment of the exact (state-carrying) passes: memory is bounded by a
 /// segment, not by the recording.

@@ -14,9 +14,11 @@
 //!   1280×720 camera for the shipped weights), so the two methods' motions overlay.
 //! * **Loss** ([`Loss`]): MSE, or the per-coordinate weighted MSE with 3× weight on the right
 //!   shoulder, elbow and wrist (default).
-//! * **Data** ([`data`]): the synthetic corpus or URMP + OpenPose.
-//! * **Training** ([`train`]): truncated BPTT over windows of parallel streams that carry
-//!   their state, Adam, clipping, validation, best-weights saving, checkpoints, `--resume`.
+//! * **Training** (feature `train`): `data` (sequences in memory; `violin-train` reads them
+//!   from the synthetic corpus or URMP + OpenPose), `train` (truncated BPTT over windows of
+//!   parallel streams that carry their state, Adam with clipping from `net-core`,
+//!   validation, best-weights saving, checkpoints, `--resume`) and `eval` (validation
+//!   scores).
 //! * **Inference** ([`GruBaseline::generate`]): audio → [`skeleton::Motion`] at 30 fps. A
 //!   recording is cut into chunks that run side by side as one batch, each with a warm-up
 //!   ([`Chunking`], [`chunking`]), the batch rows split over the cores;
@@ -34,17 +36,21 @@
 
 pub mod chunking;
 mod config;
+#[cfg(feature = "train")]
 pub mod data;
 mod error;
+#[cfg(feature = "train")]
 pub mod eval;
 pub mod features;
 mod fused_gru;
+mod gates;
 mod infer;
 mod loss;
 mod model;
 pub mod norm;
 mod packed;
 mod recurrence;
+#[cfg(feature = "train")]
 pub mod train;
 mod weights;
 

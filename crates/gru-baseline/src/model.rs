@@ -4,7 +4,7 @@ use std::sync::Mutex;
 
 use candle_core::{DType, Device, Tensor, Var};
 use candle_nn::{Linear, Module, VarBuilder, VarMap};
-use corpus::rng::Rng;
+use net_core::rng::Rng;
 
 use crate::config::Config;
 use crate::error::{GruError, Result};

@@ -5,8 +5,8 @@
 use candle_core::{DType, Device, Tensor, Var};
 use candle_nn::rnn::{GRUConfig, GRUState, RNN};
 use candle_nn::{VarBuilder, VarMap};
-use corpus::rng::Rng;
 use gru_baseline::FusedGru;
+use net_core::rng::Rng;
 
 fn random(shape: &[usize], rng: &mut Rng, scale: f64) -> Tensor {
     let n: usize = shape.iter().product();

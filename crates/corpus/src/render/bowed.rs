@@ -17,7 +17,7 @@
 use crate::render::biquad::Biquad;
 use crate::render::portato::portato_gain;
 use crate::render::{RenderError, RenderSettings, Renderer};
-use crate::rng::Rng;
+use net_core::rng::Rng;
 use performance::{TimedNote, Timeline};
 
 /// Tunable constants of the synthesizer.

@@ -14,7 +14,7 @@ use rustysynth::{SoundFont, Synthesizer, SynthesizerSettings};
 
 use crate::render::portato::portato_gain;
 use crate::render::{RenderError, RenderSettings, Renderer};
-use crate::rng::Rng;
+use net_core::rng::Rng;
 use performance::{TimedNote, Timeline};
 
 /// Samples rendered between control updates (pitch bend, events).

@@ -3,7 +3,7 @@
 use candle_core::{DType, Device};
 use candle_nn::{VarBuilder, VarMap};
 use emotion_net::{Config, EmotionNet};
-use net_store::vars;
+use net_core::vars;
 
 /// Parameters a test network leaves as `EmotionNet::new` made them, by name.
 pub struct Keep<'a> {

@@ -1,33 +1,26 @@
-//! Training checkpoints (`W.ckpt.safetensors` beside the weights `W.safetensors`): the
-//! latest parameters and Adam moments (f32), with the configuration, normalisation and
-//! progress in the metadata, so `--resume` continues where training stopped.
+//! Training checkpoints (`W.ckpt.safetensors` beside the weights `W.safetensors`), written
+//! and read by `net-core`: the latest parameters (`param.NAME`) and Adam moments, with the
+//! configuration, normalisation and progress as the checkpoint's state, so `--resume`
+//! continues where training stopped.
 
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-use candle_core::{Device, Tensor};
+use candle_core::Tensor;
+use net_core::Adam;
 use serde::{Deserialize, Serialize};
 
-use super::adam::Adam;
-use super::{EpochReport, TrainConfig};
+use super::settings::{EpochReport, TrainConfig};
 use crate::config::Config;
-use crate::error::{GruError, Result};
+use crate::error::Result;
 use crate::model::GruBaseline;
 use crate::norm::{MelStats, TargetSpace};
-use crate::weights::write_atomically;
+
+pub use net_core::checkpoint_path;
 
 const CHECKPOINT_FORMAT: &str = "gru-baseline-checkpoint";
-const CHECKPOINT_VERSION: u32 = 1;
-
-/// Where the checkpoint of weights file `out` goes: `W.safetensors` → `W.ckpt.safetensors`.
-///
-/// ```
-/// use std::path::Path;
-/// assert_eq!(gru_baseline::train::checkpoint_path(Path::new("a/w.safetensors")), Path::new("a/w.ckpt.safetensors"));
-/// ```
-pub fn checkpoint_path(out: &Path) -> PathBuf {
-    out.with_extension("ckpt.safetensors")
-}
+/// Version 2: net-core's checkpoint layout (state JSON, `adam.step` tensor).
+const CHECKPOINT_VERSION: u32 = 2;
 
 /// Progress saved with a checkpoint.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -50,6 +43,16 @@ pub struct Progress {
     pub history: Vec<EpochReport>,
 }
 
+/// Everything but the tensors: the checkpoint's state.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+struct State {
+    config: Config,
+    train: TrainConfig,
+    mel_stats: MelStats,
+    target_space: TargetSpace,
+    progress: Progress,
+}
+
 /// A loaded checkpoint.
 #[derive(Debug)]
 pub(crate) struct Checkpoint {
@@ -61,18 +64,6 @@ pub(crate) struct Checkpoint {
     pub tensors: HashMap<String, Tensor>,
 }
 
-fn err(path: &Path, reason: impl Into<String>) -> GruError {
-    GruError::Weights {
-        path: path.to_path_buf(),
-        reason: reason.into(),
-    }
-}
-
-fn json<T: Serialize>(v: &T) -> Result<String> {
-    serde_json::to_string(v)
-        .map_err(|e| GruError::Config(format!("cannot serialise checkpoint metadata ({e})")))
-}
-
 /// Writes the checkpoint atomically.
 pub(crate) fn save(
     path: &Path,
@@ -81,79 +72,40 @@ pub(crate) fn save(
     train: &TrainConfig,
     progress: &Progress,
 ) -> Result<()> {
-    let mut meta = HashMap::new();
-    meta.insert("format".to_string(), CHECKPOINT_FORMAT.to_string());
-    meta.insert("version".to_string(), CHECKPOINT_VERSION.to_string());
-    meta.insert("config".to_string(), json(net.config())?);
-    meta.insert("train".to_string(), json(train)?);
-    meta.insert("mel_stats".to_string(), json(net.mel_stats())?);
-    meta.insert("target_space".to_string(), json(net.target_space())?);
-    meta.insert("progress".to_string(), json(progress)?);
     let mut tensors: Vec<(String, Tensor)> = net
         .named_parameters()
         .into_iter()
         .map(|(n, t)| (format!("param.{n}"), t.detach()))
         .collect();
-    let (moments, _) = adam.state();
-    tensors.extend(moments.into_iter().map(|(n, t)| (format!("adam.{n}"), t)));
     tensors.sort_by(|a, b| a.0.cmp(&b.0));
-    let bytes = safetensors::serialize(tensors.iter().map(|(n, t)| (n.as_str(), t)), Some(meta))
-        .map_err(|e| GruError::Config(format!("cannot serialise the checkpoint ({e})")))?;
-    write_atomically(path, &bytes)
-}
-
-fn field<T: serde::de::DeserializeOwned>(
-    meta: &HashMap<String, String>,
-    key: &str,
-    path: &Path,
-) -> Result<T> {
-    let text = meta
-        .get(key)
-        .ok_or_else(|| err(path, format!("checkpoint metadata lacks `{key}`")))?;
-    serde_json::from_str(text).map_err(|e| {
-        err(
-            path,
-            format!("checkpoint metadata `{key}` is unreadable ({e})"),
-        )
-    })
+    let state = State {
+        config: net.config().clone(),
+        train: train.clone(),
+        mel_stats: net.mel_stats().clone(),
+        target_space: net.target_space().clone(),
+        progress: progress.clone(),
+    };
+    net_core::save_checkpoint(
+        path,
+        CHECKPOINT_FORMAT,
+        CHECKPOINT_VERSION,
+        tensors,
+        adam,
+        &state,
+    )?;
+    Ok(())
 }
 
 /// Reads a checkpoint written by [`save`].
 pub(crate) fn load(path: &Path) -> Result<Checkpoint> {
-    let bytes = std::fs::read(path).map_err(|e| {
-        err(
-            path,
-            format!("cannot read the checkpoint ({e}); --resume needs the .ckpt.safetensors of an earlier run with the same --out"),
-        )
-    })?;
-    let (_, header) = safetensors::SafeTensors::read_metadata(&bytes)
-        .map_err(|e| err(path, format!("not a safetensors file ({e})")))?;
-    let empty = HashMap::new();
-    let meta = header.metadata().as_ref().unwrap_or(&empty);
-    if meta.get("format").map(String::as_str) != Some(CHECKPOINT_FORMAT) {
-        return Err(err(path, "not a gru-baseline training checkpoint"));
-    }
-    let version: u32 = field(meta, "version", path)?;
-    if version != CHECKPOINT_VERSION {
-        return Err(err(
-            path,
-            format!(
-                "checkpoint version {version}, expected {CHECKPOINT_VERSION}; start a new training"
-            ),
-        ));
-    }
-    let tensors = candle_core::safetensors::load_buffer(&bytes, &Device::Cpu).map_err(|e| {
-        err(
-            path,
-            format!("cannot read the tensors ({e}); the file may be truncated"),
-        )
-    })?;
+    let (file, state): (_, State) =
+        net_core::load_checkpoint(path, CHECKPOINT_FORMAT, CHECKPOINT_VERSION)?;
     Ok(Checkpoint {
-        config: field(meta, "config", path)?,
-        train: field(meta, "train", path)?,
-        mel_stats: field(meta, "mel_stats", path)?,
-        target: field(meta, "target_space", path)?,
-        progress: field(meta, "progress", path)?,
-        tensors,
+        config: state.config,
+        train: state.train,
+        mel_stats: state.mel_stats,
+        target: state.target_space,
+        progress: state.progress,
+        tensors: file.tensors,
     })
 }

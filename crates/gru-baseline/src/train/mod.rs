@@ -3,22 +3,22 @@
 //! weights kept, a checkpoint for `--resume`, learning-rate halving on plateaus and early
 //! stopping. Every random draw comes from the seed.
 
-mod adam;
 mod batch;
 mod checkpoint;
 mod schedule;
+mod settings;
 
 use std::path::PathBuf;
 use std::time::Instant;
 
 use candle_core::{DType, Device, Var};
 use candle_nn::VarBuilder;
-use corpus::rng::Rng;
-use serde::{Deserialize, Serialize};
+use net_core::rng::Rng;
+use net_core::{Adam, AdamConfig};
 
-pub use adam::Adam;
 pub use checkpoint::{checkpoint_path, Progress};
 pub use schedule::{plan_epoch, Window};
+pub use settings::{EpochReport, TrainConfig};
 
 use batch::Examples;
 
@@ -26,101 +26,9 @@ use crate::config::Config;
 use crate::data::Dataset;
 use crate::error::{GruError, Result};
 use crate::eval::{evaluate, Scores};
-use crate::loss::Loss;
 use crate::model::{GruBaseline, GruState};
 use crate::norm::{MelStats, TargetSpace};
 use crate::weights::{StorageDtype, TrainingRecord};
-
-/// Settings of a training run; the default trains the shipped weights.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct TrainConfig {
-    /// Epochs (passes over the training sequences), counting those of a resumed run.
-    pub epochs: usize,
-    /// Parallel streams (batch rows).
-    pub batch_size: usize,
-    /// Frames per truncated-BPTT window (5 s at 150).
-    pub window_frames: usize,
-    /// Adam's initial learning rate.
-    pub learning_rate: f64,
-    /// Global gradient-norm clip.
-    pub clip_grad_norm: f64,
-    /// Halve the learning rate after this many epochs without a better validation loss.
-    pub lr_patience: usize,
-    /// Stop after this many epochs without a better validation loss (0 = never).
-    pub early_stop_patience: usize,
-    /// The loss (MSE or right-arm weighted).
-    pub loss: Loss,
-    /// Seed of initialisation, shuffling, window phases and dropout.
-    pub seed: u64,
-    /// Cap on updates per epoch (tests and quick trials); `None` = whole epochs.
-    pub max_steps_per_epoch: Option<usize>,
-}
-
-impl Default for TrainConfig {
-    fn default() -> Self {
-        Self {
-            epochs: 30,
-            batch_size: 16,
-            window_frames: 150,
-            learning_rate: 1e-3,
-            clip_grad_norm: 1.0,
-            lr_patience: 1,
-            early_stop_patience: 4,
-            loss: Loss::default(),
-            seed: 0,
-            max_steps_per_epoch: None,
-        }
-    }
-}
-
-impl TrainConfig {
-    /// Checks every value, naming the first one out of range.
-    pub fn validate(&self) -> Result<()> {
-        let bad = |m: String| Err(GruError::Config(m));
-        if self.epochs == 0 || self.epochs > 100_000 {
-            return bad(format!("epochs {} must be in 1..=100000", self.epochs));
-        }
-        if self.batch_size == 0 || self.batch_size > 4096 {
-            return bad(format!(
-                "batch size {} must be in 1..=4096",
-                self.batch_size
-            ));
-        }
-        if !(2..=10_000).contains(&self.window_frames) {
-            return bad(format!(
-                "window {} frames must be in 2..=10000",
-                self.window_frames
-            ));
-        }
-        if !(self.learning_rate.is_finite() && self.learning_rate > 0.0 && self.learning_rate < 1.0)
-        {
-            return bad(format!(
-                "learning rate {} must be in (0, 1)",
-                self.learning_rate
-            ));
-        }
-        if !(self.clip_grad_norm.is_finite() && self.clip_grad_norm > 0.0) {
-            return bad(format!(
-                "gradient clip {} must be positive",
-                self.clip_grad_norm
-            ));
-        }
-        if self.lr_patience == 0 {
-            return bad("lr_patience must be at least 1".into());
-        }
-        self.loss.validate()
-    }
-
-    /// Whether a checkpoint made with `other` can be continued with these settings (only
-    /// `epochs`, the patience values and the step cap may change).
-    fn resumable_from(&self, other: &TrainConfig) -> bool {
-        self.batch_size == other.batch_size
-            && self.window_frames == other.window_frames
-            && self.loss == other.loss
-            && self.seed == other.seed
-            && self.clip_grad_norm == other.clip_grad_norm
-    }
-}
 
 /// What to train and where to write it.
 #[derive(Debug, Clone, PartialEq)]
@@ -139,27 +47,6 @@ pub struct TrainOptions {
     pub command: String,
     /// The data folder, for the training record.
     pub data: String,
-}
-
-/// One epoch's results.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct EpochReport {
-    /// Epoch number, from 1.
-    pub epoch: usize,
-    /// Mean training loss over the epoch's updates (dropout on).
-    pub train_loss: f64,
-    /// Validation loss (the training loss's weighting), when there is a validation set.
-    pub val_loss: Option<f64>,
-    /// Validation plain MSE.
-    pub val_mse: Option<f64>,
-    /// Validation mean |error| per coordinate, pixels.
-    pub val_l1_px: Option<f64>,
-    /// Learning rate during the epoch.
-    pub learning_rate: f64,
-    /// Wall time of the epoch, seconds.
-    pub seconds: f64,
-    /// Whether this epoch's weights became the best and were written.
-    pub improved: bool,
 }
 
 /// Progress reports of [`train`].
@@ -223,14 +110,20 @@ pub fn train(
         &opts.config,
         VarBuilder::from_varmap(&vars, DType::F32, &Device::Cpu),
     )?;
-    let named: Vec<(String, Var)> = vars
+    let mut named: Vec<(String, Var)> = vars
         .data()
         .lock()
         .map_err(|_| GruError::Config("the variable map is poisoned".into()))?
         .iter()
         .map(|(k, v)| (k.clone(), v.clone()))
         .collect();
-    let mut adam = Adam::new(named.clone(), tcfg.learning_rate)?;
+    // Sorted by name: a stable order for the gradient norm's sum.
+    named.sort_by(|a, b| a.0.cmp(&b.0));
+    let adam_config = AdamConfig {
+        learning_rate: tcfg.learning_rate,
+        ..AdamConfig::default()
+    };
+    let mut adam = Adam::new(named.clone(), adam_config)?;
     let mut state = Progress {
         epochs_done: 0,
         adam_steps: 0,
@@ -259,13 +152,10 @@ pub fn train(
                 })?;
             var.set(t)?;
         }
-        adam.restore(
-            &|k| ck.tensors.get(&format!("adam.{k}")).cloned(),
-            ck.progress.adam_steps,
-        )?;
+        adam.load_state(&ck.tensors)?;
         net.set_normalization(ck.mel_stats, ck.target)?;
         state = ck.progress;
-        adam.learning_rate = state.learning_rate;
+        adam.config.learning_rate = state.learning_rate;
     } else {
         // Standardised targets: the head's zero bias starts at the mean pose, so the first
         // updates learn motion instead of where the body stands.
@@ -314,7 +204,7 @@ pub fn train(
             let (pred, next) = net.forward_state(&x, start.as_ref(), true)?;
             let loss = tcfg.loss.compute(&pred, &y, Some(&mask))?;
             let value = f64::from(loss.to_scalar::<f32>()?);
-            adam.step(&loss.backward()?, Some(tcfg.clip_grad_norm))?;
+            adam.step_clipped(&loss.backward()?, Some(tcfg.clip_grad_norm))?;
             carried = Some(next);
             loss_sum += value;
             progress(&TrainEvent::Step {
@@ -332,9 +222,9 @@ pub fn train(
         let train_loss = loss_sum / steps.max(1) as f64;
         let criterion = val.map_or(train_loss, |v| v.loss);
         let improved = criterion < state.best_loss;
-        let lr_used = adam.learning_rate;
+        let lr_used = adam.config.learning_rate;
         state.epochs_done = epoch;
-        state.adam_steps = adam.steps_taken();
+        state.adam_steps = adam.steps();
         state.wall_time_s += t0.elapsed().as_secs_f64();
         if improved {
             state.best_loss = criterion;
@@ -343,10 +233,10 @@ pub fn train(
         } else {
             state.epochs_since_best += 1;
             if state.epochs_since_best.is_multiple_of(tcfg.lr_patience) {
-                adam.learning_rate = (adam.learning_rate * 0.5).max(1e-5);
+                adam.config.learning_rate = (adam.config.learning_rate * 0.5).max(1e-5);
             }
         }
-        state.learning_rate = adam.learning_rate;
+        state.learning_rate = adam.config.learning_rate;
         let report = EpochReport {
             epoch,
             train_loss,

@@ -3,7 +3,7 @@
 //! (detached) from one window to the next of the same sequence and reset to zero when a new
 //! sequence starts, so training sees the same long-context state as chunked inference.
 
-use corpus::rng::Rng;
+use net_core::rng::Rng;
 
 /// One window of one sequence.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -24,7 +24,7 @@ pub struct Window {
 /// from epoch to epoch; streams are balanced by window count.
 ///
 /// ```
-/// let mut rng = corpus::rng::Rng::new(1);
+/// let mut rng = net_core::rng::Rng::new(1);
 /// let steps = gru_baseline::train::plan_epoch(&[100, 40], 30, 2, &mut rng);
 /// let windows: usize = steps.iter().flatten().flatten().count();
 /// assert!(windows >= 4);

@@ -1,0 +1,284 @@
+//! bowing-net's labelled recordings ([`Recording`], [`Splits`]) loaded, from the synthetic corpus (exact bow
+//! changes) or a URMP-style folder (labels from the skeleton, SPEC §3).
+//!
+//! **Corpus layout** (`violin-skeleton corpus`): `DIR/manifest.json` and
+//! `DIR/items/NNNNN/{audio.wav, bowchanges.txt, notes.tsv}`; the manifest gives each item's
+//! split.
+//!
+//! **URMP layout**: any folder tree holding separated violin tracks `AuSep_K_vn_NAME.wav`
+//! (URMP's naming) each with an OpenPose directory of that player beside it, named
+//! `openpose_K_vn_NAME/` (one `*_keypoints.json` per video frame at 30 fps). Labels come from
+//! `pose_preproc::preprocess_dir` (SPEC §3). Tracks are sorted by path and split like the
+//! corpus (index ending in 3 → test, 7 → validation).
+
+use std::path::{Path, PathBuf};
+
+use bowing_net::data::{Recording, Splits};
+use bowing_net::features::{bowing_mel_of_file, frame_of};
+use bowing_net::NetError;
+use corpus::manifest::{Manifest, Split};
+use pose_preproc::PreprocConfig;
+use rayon::prelude::*;
+
+use crate::error::Result;
+
+fn push(splits: &mut Splits, split: Split, r: Recording) {
+    match split {
+        Split::Train => splits.train.push(r),
+        Split::Val => splits.val.push(r),
+        Split::Test => splits.test.push(r),
+    }
+}
+
+/// Loads a data folder, telling the layout by its content: `manifest.json` → corpus,
+/// otherwise URMP. `progress(done, total)` is called as recordings are loaded.
+pub fn load_dataset(dir: &Path, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<Splits> {
+    if dir.join("manifest.json").is_file() {
+        load_corpus(dir, progress)
+    } else {
+        load_urmp(dir, &PreprocConfig::default(), progress)
+    }
+}
+
+/// Reads a corpus manifest.
+pub fn read_manifest(dir: &Path) -> Result<Manifest> {
+    let path = dir.join("manifest.json");
+    let text = std::fs::read_to_string(&path).map_err(|e| {
+        NetError::data(&path, format!("cannot read the corpus manifest ({e}); make a corpus with `violin-skeleton corpus`"))
+    })?;
+    Ok(serde_json::from_str(&text)
+        .map_err(|e| NetError::data(&path, format!("not a corpus manifest ({e})")))?)
+}
+
+/// Times in seconds, one per line (blank lines skipped).
+pub fn read_times(path: &Path) -> Result<Vec<f64>> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| NetError::data(path, format!("cannot read ({e})")))?;
+    let mut out = Vec::new();
+    for (i, line) in text.lines().enumerate() {
+        let line = line.trim();
+        if line.is_empty() {
+            continue;
+        }
+        let v: f64 = line.parse().map_err(|_| {
+            NetError::data(
+                path,
+                format!("line {}: \"{line}\" is not a time in seconds", i + 1),
+            )
+        })?;
+        if !v.is_finite() || v < 0.0 {
+            return Err(NetError::data(
+                path,
+                format!(
+                    "line {}: time {v} is not a finite, non-negative number",
+                    i + 1
+                ),
+            )
+            .into());
+        }
+        out.push(v);
+    }
+    Ok(out)
+}
+
+/// Note onsets (s) from a corpus `notes.tsv` (`onset_s  offset_s  midi`, with a header).
+pub fn read_note_onsets(path: &Path) -> Result<Vec<f64>> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| NetError::data(path, format!("cannot read ({e})")))?;
+    let mut out = Vec::new();
+    for (i, line) in text.lines().enumerate().skip(1) {
+        let Some(first) = line.split('\t').next().filter(|s| !s.trim().is_empty()) else {
+            continue;
+        };
+        let v: f64 = first.trim().parse().map_err(|_| {
+            NetError::data(
+                path,
+                format!("line {}: \"{first}\" is not an onset in seconds", i + 1),
+            )
+        })?;
+        out.push(v);
+    }
+    Ok(out)
+}
+
+fn frames_of(times: &[f64], frames: usize) -> Vec<usize> {
+    let mut out: Vec<usize> = times
+        .iter()
+        .map(|&t| frame_of(t))
+        .filter(|&f| f < frames)
+        .collect();
+    out.sort_unstable();
+    out.dedup();
+    out
+}
+
+/// Loads one corpus item folder.
+pub fn load_corpus_item(dir: &Path, name: &str, group: &str) -> Result<Recording> {
+    let mel_db = bowing_mel_of_file(&dir.join("audio.wav"))?;
+    let frames = mel_db.nrows();
+    let change_s = read_times(&dir.join("bowchanges.txt"))?;
+    let onset_s = read_note_onsets(&dir.join("notes.tsv"))?;
+    let slurred_s: Vec<f64> = onset_s
+        .iter()
+        .copied()
+        .filter(|o| !change_s.iter().any(|c| (c - o).abs() < 1e-3))
+        .collect();
+    Ok(Recording {
+        name: name.to_string(),
+        group: group.to_string(),
+        changes: frames_of(&change_s, frames),
+        onsets: frames_of(&onset_s, frames),
+        slurred: frames_of(&slurred_s, frames),
+        mel_db,
+    })
+}
+
+/// Loads every item of a corpus, by the manifest's splits.
+pub fn load_corpus(dir: &Path, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<Splits> {
+    let manifest = read_manifest(dir)?;
+    if manifest.items.is_empty() {
+        return Err(NetError::data(dir.join("manifest.json"), "the corpus has no items").into());
+    }
+    let total = manifest.items.len();
+    let done = std::sync::atomic::AtomicUsize::new(0);
+    let loaded: Vec<Result<(Split, Recording)>> = manifest
+        .items
+        .par_iter()
+        .map(|item| {
+            let group = match item.renderer {
+                corpus::item::RendererKind::Builtin => "builtin",
+                corpus::item::RendererKind::Soundfont => "soundfont",
+            };
+            let r = load_corpus_item(&dir.join(&item.dir), &item.dir, group)?;
+            progress(
+                done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1,
+                total,
+            );
+            Ok((item.split, r))
+        })
+        .collect();
+    let mut splits = Splits::default();
+    for r in loaded {
+        let (split, rec) = r?;
+        push(&mut splits, split, rec);
+    }
+    Ok(splits)
+}
+
+/// A URMP violin track and its OpenPose directory.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct UrmpTrack {
+    /// `AuSep_K_vn_NAME.wav`.
+    pub audio: PathBuf,
+    /// `openpose_K_vn_NAME/`.
+    pub openpose: PathBuf,
+}
+
+/// Finds every `AuSep_*_vn_*.wav` below `dir` with its `openpose_*` directory, sorted.
+/// A violin track without a pose directory is an error naming the directory expected.
+pub fn find_urmp_tracks(dir: &Path) -> Result<Vec<UrmpTrack>> {
+    let mut stack = vec![dir.to_path_buf()];
+    let mut out = Vec::new();
+    while let Some(d) = stack.pop() {
+        let entries =
+            std::fs::read_dir(&d).map_err(|e| NetError::data(&d, format!("cannot list ({e})")))?;
+        for entry in entries {
+            let path = entry.map_err(|e| NetError::data(&d, e))?.path();
+            if path.is_dir() {
+                stack.push(path);
+                continue;
+            }
+            let Some(name) = path.file_name().and_then(|n| n.to_str()) else {
+                continue;
+            };
+            let Some(stem) = name
+                .strip_prefix("AuSep_")
+                .and_then(|s| s.strip_suffix(".wav"))
+            else {
+                continue;
+            };
+            if stem.split('_').nth(1) != Some("vn") {
+                continue;
+            }
+            let openpose = d.join(format!("openpose_{stem}"));
+            if !openpose.is_dir() {
+                return Err(NetError::data(
+                    &path,
+                    format!(
+                        "no OpenPose directory for this track: expected {}",
+                        openpose.display()
+                    ),
+                )
+                .into());
+            }
+            out.push(UrmpTrack {
+                audio: path,
+                openpose,
+            });
+        }
+    }
+    out.sort_by(|a, b| a.audio.cmp(&b.audio));
+    if out.is_empty() {
+        return Err(NetError::data(
+            dir,
+            "neither a corpus (manifest.json) nor a URMP folder (AuSep_K_vn_NAME.wav + openpose_K_vn_NAME/)",
+        ).into());
+    }
+    Ok(out)
+}
+
+/// Loads one URMP track: mel of the audio, bow changes from the skeleton (both at 30 fps,
+/// cut to the shorter of the two).
+pub fn load_urmp_track(track: &UrmpTrack, cfg: &PreprocConfig) -> Result<Recording> {
+    let mel = bowing_mel_of_file(&track.audio)?;
+    let pose = pose_preproc::preprocess_dir(&track.openpose, cfg)?;
+    let frames = mel.nrows().min(pose.motion.len());
+    let mel_db = mel.slice(ndarray::s![..frames, ..]).to_owned();
+    let changes: Vec<usize> = pose
+        .bow_change_frames
+        .iter()
+        .copied()
+        .filter(|&f| f < frames)
+        .collect();
+    let name = track
+        .audio
+        .file_name()
+        .and_then(|n| n.to_str())
+        .unwrap_or("track")
+        .to_string();
+    Ok(Recording {
+        name,
+        group: "urmp".into(),
+        mel_db,
+        changes,
+        onsets: Vec::new(),
+        slurred: Vec::new(),
+    })
+}
+
+/// Loads a URMP-style folder (module docs).
+pub fn load_urmp(
+    dir: &Path,
+    cfg: &PreprocConfig,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<Splits> {
+    let tracks = find_urmp_tracks(dir)?;
+    let splits = Split::assign(tracks.len());
+    let done = std::sync::atomic::AtomicUsize::new(0);
+    let loaded: Vec<Result<Recording>> = tracks
+        .par_iter()
+        .map(|t| {
+            let r = load_urmp_track(t, cfg);
+            progress(
+                done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1,
+                tracks.len(),
+            );
+            r
+        })
+        .collect();
+    let mut out = Splits::default();
+    for (r, split) in loaded.into_iter().zip(splits) {
+        push(&mut out, split, r?);
+    }
+    Ok(out)
+}
