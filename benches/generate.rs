@@ -3,10 +3,10 @@
 //! `cargo bench --bench generate`
 #![allow(clippy::expect_used, missing_docs)]
 
+use corpus::etude::{generate as etude, EtudeConfig};
+use corpus::render::{BowedStringSynth, RenderSettings, Renderer};
+use corpus::timing::play;
 use criterion::{criterion_group, criterion_main, Criterion};
-use violin_skeleton::corpus::etude::{generate as etude, EtudeConfig};
-use violin_skeleton::corpus::render::{BowedStringSynth, RenderSettings, Renderer};
-use violin_skeleton::corpus::timing::play;
 use violin_skeleton::{Audio, Pipeline};
 
 fn sixty_seconds() -> Audio {

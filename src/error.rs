@@ -24,10 +24,8 @@ pub enum Error {
     /// Motion files.
     #[error(transparent)]
     Skeleton(#[from] skeleton::SkeletonError),
-    /// MIDI input or corpus rendering.
-    #[error(transparent)]
-    Corpus(#[from] corpus::CorpusError),
     /// A MIDI file that cannot be used.
+    #[cfg(feature = "midi")]
     #[error(transparent)]
     Midi(#[from] performance::MidiError),
     /// A performance or analysis file that cannot be read.

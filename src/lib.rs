@@ -22,13 +22,15 @@
 //! # Ok::<(), violin_skeleton::Error>(())
 //! ```
 
+mod chunking;
 mod error;
 mod long_audio;
+mod models;
 pub mod networks;
 mod pipeline;
 
+pub use chunking::Chunking;
 pub use error::{Error, Result};
-pub use long_audio::Chunking;
 pub use performance::{Analysis, ArousalCurve, F0Track, Note};
 pub use pipeline::{
     Method, Pipeline, PipelineBuilder, PlannerKind, StageTimings, BOW_CHANGE_ONSET_LEAD_S,
@@ -43,14 +45,14 @@ pub use skeleton::Motion;
 
 pub use beat_track;
 pub use bowing_net;
-pub use corpus;
 pub use dsp_mel;
 pub use emotion_net;
 pub use fingering;
+#[cfg(feature = "gru")]
 pub use gru_baseline;
 pub use motion_synth;
 pub use performance;
 pub use pitch_track;
-pub use pose_preproc;
 pub use skeleton;
+#[cfg(feature = "render")]
 pub use skeleton_render;

@@ -12,27 +12,10 @@ use std::time::Instant;
 use dsp_mel::{Audio, AudioReader};
 use skeleton::Motion;
 
+use crate::chunking::Chunking;
 use crate::error::{Error, Result};
 use crate::pipeline::{Method, Pipeline, StageTimings};
 use performance::{Analysis, ArousalCurve, F0Track, Note};
-
-/// How a long recording is cut.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Chunking {
-    /// Seconds each chunk owns (default 120).
-    pub core_s: f64,
-    /// Seconds of context analysed on each side of a chunk and then dropped (default 10).
-    pub margin_s: f64,
-}
-
-impl Default for Chunking {
-    fn default() -> Self {
-        Self {
-            core_s: 120.0,
-            margin_s: 10.0,
-        }
-    }
-}
 
 /// One piece of the recording: its audio (core plus margins) and where it sits.
 struct Chunk {
@@ -263,10 +246,12 @@ impl Pipeline {
                 let analysis = self.analyze_file(path, progress)?;
                 self.generate_from_analysis(&analysis)
             }
+            #[cfg(feature = "gru")]
             Method::Gru => self.generate_gru_file(path.as_ref(), progress),
         }
     }
 
+    #[cfg(feature = "gru")]
     fn generate_gru_file(
         &self,
         path: &Path,

@@ -7,26 +7,10 @@ use std::sync::{Arc, OnceLock};
 use bowing_net::BowChangeDetector;
 use dsp_mel::Audio;
 use emotion_net::ArousalEstimator;
+#[cfg(feature = "gru")]
 use gru_baseline::GruBaseline;
 
 use crate::error::{Error, Result};
-
-/// The three models a pipeline uses.
-#[derive(Clone)]
-pub struct Models {
-    /// Bow-change detector (SPEC §4).
-    pub bowing: Arc<BowChangeDetector>,
-    /// Arousal estimator (SPEC §7).
-    pub emotion: Arc<ArousalEstimator>,
-    /// Method 1 GRU, loaded on first use.
-    pub gru: Option<Arc<GruBaseline>>,
-}
-
-impl std::fmt::Debug for Models {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Models").finish_non_exhaustive()
-    }
-}
 
 fn net_err(what: &str, e: impl std::fmt::Display) -> Error {
     Error::Network(format!("{what}: {e}"))
@@ -46,6 +30,7 @@ fn load_err(path: &Path, e: impl std::fmt::Display) -> Error {
 
 static BOWING: OnceLock<std::result::Result<Arc<BowChangeDetector>, String>> = OnceLock::new();
 static EMOTION: OnceLock<std::result::Result<Arc<ArousalEstimator>, String>> = OnceLock::new();
+#[cfg(feature = "gru")]
 static GRU: OnceLock<std::result::Result<Arc<GruBaseline>, String>> = OnceLock::new();
 
 /// The embedded bow-change detector (loaded once).
@@ -73,6 +58,7 @@ pub fn pretrained_emotion() -> Result<Arc<ArousalEstimator>> {
 }
 
 /// The embedded Method 1 GRU (loaded once).
+#[cfg(feature = "gru")]
 pub fn pretrained_gru() -> Result<Arc<GruBaseline>> {
     GRU.get_or_init(|| {
         GruBaseline::pretrained()
@@ -98,6 +84,7 @@ pub fn load_emotion(path: &Path) -> Result<Arc<ArousalEstimator>> {
 }
 
 /// User-trained GRU weights.
+#[cfg(feature = "gru")]
 pub fn load_gru(path: &Path) -> Result<Arc<GruBaseline>> {
     GruBaseline::load(path)
         .map(Arc::new)
@@ -130,6 +117,7 @@ pub fn arousal(estimator: &ArousalEstimator, audio: &Audio, duration_s: f64) -> 
 }
 
 /// Method 1: the GRU's motion for `audio`.
+#[cfg(feature = "gru")]
 pub fn gru_motion(gru: &GruBaseline, audio: &Audio) -> Result<skeleton::Motion> {
     gru.generate(audio).map_err(|e| net_err("gru-baseline", e))
 }

@@ -1,6 +1,7 @@
 //! `Pipeline`: audio (or MIDI) → [`Analysis`] → [`Performance`] → [`Motion`].
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
+use std::sync::Arc;
 use std::time::Instant;
 
 use dsp_mel::{resample, Audio, DEFAULT_ANALYSIS_RATE_HZ};
@@ -12,8 +13,9 @@ use pitch_track::{
 };
 use skeleton::Motion;
 
+use crate::chunking::Chunking;
 use crate::error::{Error, Result};
-use crate::long_audio::Chunking;
+use crate::models::LoadedModels;
 use crate::networks;
 
 /// How motion is made from the music.
@@ -22,7 +24,8 @@ pub enum Method {
     /// Method 2 (default): analysis → performance → rule-based synthesis.
     #[default]
     Rules,
-    /// Method 1: the GRU baseline maps mel frames straight to joints.
+    /// Method 1: the GRU baseline maps mel frames straight to joints (feature `gru`).
+    #[cfg(feature = "gru")]
     Gru,
 }
 
@@ -125,6 +128,7 @@ pub struct Pipeline {
     emotion_weights: Option<PathBuf>,
     gru_weights: Option<PathBuf>,
     chunking: Chunking,
+    models: Arc<LoadedModels>,
 }
 
 /// Builder of a [`Pipeline`].
@@ -185,7 +189,8 @@ impl PipelineBuilder {
 
     /// The pipeline. Weight files given to the builder are read when first needed, and a
     /// file that does not fit is reported then.
-    pub fn build(self) -> Pipeline {
+    pub fn build(mut self) -> Pipeline {
+        self.inner.models = Arc::default();
         self.inner
     }
 }
@@ -256,17 +261,11 @@ impl Pipeline {
         };
         let network_side = || -> Result<_> {
             let clock = Instant::now();
-            let bowing = match &self.bowing_weights {
-                Some(p) => networks::load_bowing(p)?,
-                None => networks::pretrained_bowing()?,
-            };
+            let bowing = self.models.bowing(self.bowing_weights.as_deref())?;
             let bow_changes_s = networks::bow_changes(&bowing, &analysed)?;
             let bowing_s = clock.elapsed().as_secs_f64();
             let clock = Instant::now();
-            let emotion = match &self.emotion_weights {
-                Some(p) => networks::load_emotion(p)?,
-                None => networks::pretrained_emotion()?,
-            };
+            let emotion = self.models.emotion(self.emotion_weights.as_deref())?;
             let arousal = networks::arousal(&emotion, &analysed, audio.duration_s())?;
             Ok((
                 bow_changes_s,
@@ -385,6 +384,7 @@ impl Pipeline {
                 let analysis = self.analyze(audio)?;
                 self.generate_from_analysis(&analysis)
             }
+            #[cfg(feature = "gru")]
             Method::Gru => {
                 if audio.duration_s() < MIN_DURATION_S {
                     return Err(Error::TooShort {
@@ -393,10 +393,7 @@ impl Pipeline {
                         min_s: MIN_DURATION_S,
                     });
                 }
-                let gru = match &self.gru_weights {
-                    Some(p) => networks::load_gru(p)?,
-                    None => networks::pretrained_gru()?,
-                };
+                let gru = self.models.gru(self.gru_weights.as_deref())?;
                 networks::gru_motion(&gru, audio)
             }
         }
@@ -410,13 +407,15 @@ impl Pipeline {
 
     /// Motion for a MIDI file: notes and timing from the file, bowing from slur and
     /// articulation heuristics, arousal from velocity (see `performance::midi`).
-    pub fn generate_midi(&self, path: impl AsRef<Path>) -> Result<Motion> {
+    #[cfg(feature = "midi")]
+    pub fn generate_midi(&self, path: impl AsRef<std::path::Path>) -> Result<Motion> {
         let perf = self.performance_from_midi(path)?;
         Ok(synthesize(&perf, &self.synth)?)
     }
 
     /// The [`Performance`] of a MIDI file.
-    pub fn performance_from_midi(&self, path: impl AsRef<Path>) -> Result<Performance> {
+    #[cfg(feature = "midi")]
+    pub fn performance_from_midi(&self, path: impl AsRef<std::path::Path>) -> Result<Performance> {
         let mut timeline = performance::midi::timeline_from_midi_file(path)?;
         let midi: Vec<u8> = timeline.notes.iter().map(|n| n.note.midi).collect();
         for (n, f) in timeline.notes.iter_mut().zip(self.plan(&midi)) {

@@ -17,13 +17,14 @@ use std::process::Command;
 
 use common::imports::import_pairs;
 
-/// Layer of every workspace crate; tools are ordered inside layer 5 (5.0 corpus, 5.1
-/// violin-train, 5.2 cli) and written ×10 so the order is a plain comparison.
+/// Layer of every workspace crate, written ×10 so that an order inside a layer is a plain
+/// comparison: in layer 0 `atomic-file` (0.0) comes before the crates that write files
+/// (0.1); in layer 5 `corpus` (5.0) before `violin-train` (5.1) before `cli` (5.2).
 const LAYERS: &[(&str, u32)] = &[
-    ("dsp-mel", 0),
-    ("fingering", 0),
-    ("skeleton", 0),
     ("atomic-file", 0),
+    ("dsp-mel", 1),
+    ("fingering", 1),
+    ("skeleton", 1),
     ("performance", 10),
     ("net-core", 10),
     ("pitch-track", 20),
@@ -157,18 +158,28 @@ fn the_facade_by_default_compiles_no_training_corpus_or_soundfont() {
         "--offline",
     ]);
     let names: BTreeSet<&str> = tree.lines().filter_map(|l| l.split(' ').next()).collect();
-    for banned in [
-        "corpus",
-        "rustysynth",
-        "violin-train",
-        "midly",
-        "pose-preproc",
-    ] {
+    for banned in ["corpus", "rustysynth", "violin-train", "pose-preproc"] {
         assert!(
             !names.contains(banned),
             "the facade's default features compile {banned}"
         );
     }
+    // No network's training loop either.
+    let features = cargo(&[
+        "tree",
+        "-p",
+        "violin-skeleton",
+        "-e",
+        "normal,features",
+        "--prefix",
+        "none",
+        "--offline",
+    ]);
+    let train: Vec<&str> = features
+        .lines()
+        .filter(|l| l.contains("feature \"train\""))
+        .collect();
+    assert!(train.is_empty(), "default features turn on {train:?}");
 }
 
 /// Every `.rs` file we own, with its path relative to the root.

@@ -2,11 +2,11 @@
 //! overlapping chunks and stitched, with nothing lost or doubled at the seams.
 #![allow(clippy::unwrap_used, clippy::expect_used, missing_docs)]
 
-use violin_skeleton::corpus::melodies::minuet_in_g;
-use violin_skeleton::corpus::render::{BowedStringSynth, RenderSettings, Renderer};
-use violin_skeleton::corpus::timing::play;
+use corpus::melodies::minuet_in_g;
+use corpus::render::{BowedStringSynth, RenderSettings, Renderer};
+use corpus::timing::play;
+use pose_preproc::metrics::match_events_s;
 use violin_skeleton::fingering::OptimalPlanner;
-use violin_skeleton::pose_preproc::metrics::match_events_s;
 use violin_skeleton::{Chunking, Method, Pipeline};
 
 /// The demo minuet played twice in a row (about 49 s), as a 44.1 kHz WAV, with its onsets.

@@ -2,12 +2,12 @@
 //! analysis close to what was played, and a plausible motion.
 #![allow(clippy::unwrap_used, clippy::expect_used, missing_docs)]
 
-use violin_skeleton::corpus::melodies::minuet_in_g;
-use violin_skeleton::corpus::render::{BowedStringSynth, RenderSettings, Renderer};
-use violin_skeleton::corpus::timing::play;
+use corpus::melodies::minuet_in_g;
+use corpus::render::{BowedStringSynth, RenderSettings, Renderer};
+use corpus::timing::play;
+use pose_preproc::metrics::match_events_s;
 use violin_skeleton::fingering::OptimalPlanner;
 use violin_skeleton::motion_synth::{metrics, synthesize_detailed};
-use violin_skeleton::pose_preproc::metrics::match_events_s;
 use violin_skeleton::{Audio, Pipeline};
 
 #[test]

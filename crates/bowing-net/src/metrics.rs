@@ -62,8 +62,8 @@ impl Counts {
 }
 
 /// Matches `predicted` to `truth` (frame indices) one-to-one: a pair matches when the
-/// frames differ by at most `tolerance`; pairs are taken greedily from the closest up, each
-/// event used once (the rule of `pose_preproc::metrics::match_events`).
+/// frames differ by at most `tolerance`, as many pairs as possible
+/// ([`performance::match_events`]).
 ///
 /// ```
 /// use bowing_net::metrics::match_events;
@@ -94,29 +94,16 @@ pub fn match_events(predicted: &[usize], truth: &[usize], tolerance: usize) -> C
     }
 }
 
-/// Which predictions are matched to a reference event (the closest-first, one-to-one rule
-/// of [`match_events`]); `truth` sorted.
+/// Which predictions are matched to a reference event by the workspace's one matcher
+/// ([`performance::match_events`]: a maximum one-to-one matching within `tolerance` frames).
 pub fn matched_predictions(predicted: &[usize], truth: &[usize], tolerance: usize) -> Vec<bool> {
-    let mut pairs: Vec<(usize, usize, usize)> = Vec::new();
-    for (i, &p) in predicted.iter().enumerate() {
-        let lo = truth.partition_point(|&t| t + tolerance < p);
-        for (j, &t) in truth.iter().enumerate().skip(lo) {
-            if t > p + tolerance {
-                break;
-            }
-            pairs.push((p.abs_diff(t), i, j));
-        }
+    let p: Vec<f64> = predicted.iter().map(|&v| v as f64).collect();
+    let t: Vec<f64> = truth.iter().map(|&v| v as f64).collect();
+    let mut used = vec![false; predicted.len()];
+    for (_, i) in performance::match_events(&t, &p, tolerance as f64) {
+        used[i] = true;
     }
-    pairs.sort_unstable();
-    let mut used_p = vec![false; predicted.len()];
-    let mut used_t = vec![false; truth.len()];
-    for (_, i, j) in pairs {
-        if !used_p[i] && !used_t[j] {
-            used_p[i] = true;
-            used_t[j] = true;
-        }
-    }
-    used_p
+    used
 }
 
 /// Accumulated figures for a set of recordings.

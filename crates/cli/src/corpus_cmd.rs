@@ -4,7 +4,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::{Args, ValueEnum};
-use violin_skeleton::corpus::build::{
+use corpus::build::{
     build_corpus, find_system_soundfont, CorpusConfig, RendererChoice, SYSTEM_SOUNDFONTS,
 };
 

@@ -9,11 +9,11 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use clap::Args;
-use violin_skeleton::corpus::melodies::minuet_in_g;
-use violin_skeleton::corpus::render::{BowedStringSynth, RenderSettings, Renderer};
-use violin_skeleton::corpus::timing::play;
+use corpus::melodies::minuet_in_g;
+use corpus::render::{BowedStringSynth, RenderSettings, Renderer};
+use corpus::timing::play;
+use pose_preproc::metrics::match_events_s;
 use violin_skeleton::fingering::OptimalPlanner;
-use violin_skeleton::pose_preproc::metrics::match_events_s;
 use violin_skeleton::{Audio, Pipeline};
 
 use crate::error::CliError;
@@ -69,7 +69,7 @@ pub fn run(args: &DemoArgs, report: &Reporter) -> Result<(), CliError> {
     };
     let samples = BowedStringSynth::default()
         .render(&timeline, &settings)
-        .map_err(violin_skeleton::corpus::CorpusError::from)?;
+        .map_err(corpus::CorpusError::from)?;
     let wav = wav_bytes(&samples, DEMO_RATE_HZ).map_err(|reason| CliError::Output {
         path: out.join("demo.wav"),
         reason,

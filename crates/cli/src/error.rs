@@ -15,10 +15,10 @@ pub enum CliError {
     Dsp(#[from] violin_skeleton::dsp_mel::DspError),
     /// Making the corpus failed.
     #[error(transparent)]
-    Corpus(#[from] violin_skeleton::corpus::CorpusError),
+    Corpus(#[from] corpus::CorpusError),
     /// Reading or cleaning an OpenPose directory failed.
     #[error(transparent)]
-    PosePreproc(#[from] violin_skeleton::pose_preproc::PosePreprocError),
+    PosePreproc(#[from] pose_preproc::PosePreprocError),
     /// Reading or writing a motion file failed.
     #[error(transparent)]
     Skeleton(#[from] violin_skeleton::skeleton::SkeletonError),

@@ -14,7 +14,9 @@ mod output;
 mod pose_labels;
 mod render;
 mod train;
+mod train_args;
 mod train_gru;
+mod train_io;
 
 use std::process::ExitCode;
 
@@ -55,7 +57,7 @@ enum Command {
     /// Every SPEC §10 measure on a labelled corpus or URMP folder: a table, and a JSON report.
     Evaluate(evaluate::EvaluateArgs),
     /// Train the bow-change CNN, the arousal CRNN or the Method 1 GRU (corpus, URMP or DEAM folder).
-    Train(train::TrainArgs),
+    Train(train_args::TrainArgs),
 }
 
 /// Prints progress and summaries on stderr unless `--quiet`.

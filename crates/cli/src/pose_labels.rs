@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::{Args, ValueEnum};
-use violin_skeleton::pose_preproc::{preprocess_dir, ChangePoint, PoseTrack, PreprocConfig};
+use pose_preproc::{preprocess_dir, ChangePoint, PoseTrack, PreprocConfig};
 use violin_skeleton::skeleton::MotionFormat;
 
 use crate::error::CliError;

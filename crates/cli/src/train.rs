@@ -1,64 +1,14 @@
 //! `violin-skeleton train bowing|emotion`: train a network on a corpus, URMP or DEAM folder.
 
-use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use clap::{Args, ValueEnum};
 use violin_skeleton::bowing_net::{self, metrics::Evaluation, TrainConfig};
 use violin_skeleton::emotion_net;
 
 use crate::error::CliError;
+use crate::train_args::{Network, TrainArgs};
+use crate::train_io::{describe, loading_bar, write_json};
 use crate::Reporter;
-
-/// Which network to train.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum Network {
-    /// The bow-change CNN (corpus or URMP layout).
-    Bowing,
-    /// The arousal CRNN (corpus or DEAM layout).
-    Emotion,
-    /// Method 1: the GRU from mel frames straight to the joints (corpus or URMP layout).
-    Gru,
-}
-
-/// Arguments of `train`.
-#[derive(Debug, Args)]
-#[command(
-    after_help = "Examples:\n  violin-skeleton train bowing --data corpus --out bowing.safetensors\n  violin-skeleton train emotion --data DEAM --out emotion.safetensors --epochs 40 --seed 2\n  violin-skeleton train gru --data corpus --out gru.safetensors --unweighted --epochs 20\n  violin-skeleton train bowing --data corpus --out bowing.safetensors --resume\n  violin-skeleton train bowing --data corpus --out b.safetensors --config settings.json\n\nThe data folder's layout is recognised: a corpus (manifest.json, from `violin-skeleton corpus`),\nURMP (AuSep_K_vn_NAME.wav + openpose_K_vn_NAME/ per track; bowing and gru) or DEAM\n(annotations/… + MEMD_audio/; emotion only). The best weights so far are kept in --out and a\ncheckpoint beside it (NAME.ckpt.safetensors) after every epoch; --resume continues from it.\nAt the end the test split is evaluated and summarised."
-)]
-pub struct TrainArgs {
-    /// The network.
-    #[arg(value_enum)]
-    pub network: Network,
-    /// Training data folder.
-    #[arg(long)]
-    pub data: PathBuf,
-    /// Output weights (safetensors).
-    #[arg(long)]
-    pub out: PathBuf,
-    /// Maximum epochs (early stopping may end sooner).
-    #[arg(long)]
-    pub epochs: Option<usize>,
-    /// Continue from the checkpoint beside --out.
-    #[arg(long)]
-    pub resume: bool,
-    /// Seed of initialisation, order and dropout.
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
-    /// bowing, emotion: training settings as JSON, any fields of the network's `TrainConfig`
-    /// (e.g. {"learning_rate": 0.002, "patience": 6}); --epochs and --seed override it.
-    #[arg(long)]
-    pub config: Option<PathBuf>,
-    /// Also write the test-split evaluation as JSON here.
-    #[arg(long)]
-    pub report: Option<PathBuf>,
-    /// gru: the right-arm weighted loss (3× on the right shoulder, elbow, wrist; the default).
-    #[arg(long, conflicts_with = "unweighted")]
-    pub weighted: bool,
-    /// gru: plain MSE on all joints.
-    #[arg(long)]
-    pub unweighted: bool,
-}
 
 /// Runs `train`.
 pub fn run(args: &TrainArgs, report: &Reporter) -> Result<(), CliError> {
@@ -112,11 +62,6 @@ fn read_config<T: serde::de::DeserializeOwned + Default>(args: &TrainArgs) -> Re
             args.network
         ))
     })
-}
-
-/// A loading bar fed by a library's `(done, total)` callback.
-pub fn loading_bar(report: &Reporter, what: &str) -> indicatif::ProgressBar {
-    report.progress(0, what)
 }
 
 fn train_bowing(args: &TrainArgs, report: &Reporter) -> Result<(), CliError> {
@@ -287,28 +232,10 @@ fn print_bowing_eval(report: &Reporter, eval: &Evaluation) {
     }
 }
 
-/// The data folder as recorded in the weights file.
-pub fn describe(dir: &Path) -> String {
-    dir.file_name()
-        .and_then(|n| n.to_str())
-        .unwrap_or("data")
-        .to_string()
-}
-
-/// Writes a JSON report atomically.
-pub fn write_json<T: serde::Serialize>(path: &Path, value: &T) -> Result<(), CliError> {
-    let text = serde_json::to_string_pretty(value).map_err(|e| CliError::Output {
-        path: path.to_path_buf(),
-        reason: e.to_string(),
-    })?;
-    crate::output::write_atomically(path, |w| {
-        w.write_all(text.as_bytes()).map_err(|e| e.to_string())
-    })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::path::PathBuf;
 
     fn args(network: Network, config: Option<PathBuf>) -> TrainArgs {
         TrainArgs {

@@ -8,7 +8,8 @@ use violin_skeleton::gru_baseline::{Config, GruBaseline, Loss, StorageDtype};
 use violin_train::gru_data::load_dataset;
 
 use crate::error::CliError;
-use crate::train::{describe, loading_bar, write_json, TrainArgs};
+use crate::train_args::TrainArgs;
+use crate::train_io::{describe, loading_bar, write_json};
 use crate::Reporter;
 
 /// Runs `train gru` (the shared checks of `train` have passed).

@@ -2,8 +2,8 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use motion_synth::{synthesize, SynthConfig};
-use performance::{ArousalCurve, Performance};
 use ndarray::Array3;
+use performance::{ArousalCurve, Performance};
 use skeleton::formats::bvh::{joint_for, parse_bvh, write_bvh, write_bvh_file};
 use skeleton::{Joint, Motion, SkeletonError};
 

@@ -30,6 +30,7 @@
 mod config;
 mod error;
 mod hmm;
+mod note_config;
 mod notes;
 mod novelty;
 mod prior;
@@ -42,7 +43,8 @@ pub mod synth;
 
 pub use config::PitchConfig;
 pub use error::{PitchError, Result};
-pub use notes::{segment_notes, segment_notes_with_novelty, Note, NoteConfig};
+pub use note_config::NoteConfig;
+pub use notes::{segment_notes, segment_notes_with_novelty, Note};
 pub use novelty::{onset_novelty, NoveltyConfig};
 pub use split::{split_notes_at, start_notes_at};
 pub use track::{hz_to_midi, midi_to_hz, PitchTrack, PitchTracker};

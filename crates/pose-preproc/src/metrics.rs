@@ -21,7 +21,8 @@ pub struct EventMatch {
 }
 
 /// Matches `predicted` to `truth` (frame indices): a pair matches when the frames differ by
-/// at most `tolerance`; pairs are taken greedily from the closest up, each event used once.
+/// at most `tolerance`, each event used once, as many pairs as possible
+/// ([`performance::match_events`]).
 ///
 /// ```
 /// use pose_preproc::metrics::match_events;
@@ -42,26 +43,8 @@ pub fn match_events(predicted: &[usize], truth: &[usize], tolerance: usize) -> E
 /// assert_eq!(m.true_positives, 1);
 /// ```
 pub fn match_events_s(predicted: &[f64], truth: &[f64], tolerance: f64) -> EventMatch {
-    let mut pairs: Vec<(f64, usize, usize)> = Vec::new();
-    for (i, p) in predicted.iter().enumerate() {
-        for (j, t) in truth.iter().enumerate() {
-            let d = (p - t).abs();
-            if d <= tolerance {
-                pairs.push((d, i, j));
-            }
-        }
-    }
-    pairs.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
-    let mut used_p = vec![false; predicted.len()];
-    let mut used_t = vec![false; truth.len()];
-    let mut tp = 0;
-    for (_, i, j) in pairs {
-        if !used_p[i] && !used_t[j] {
-            used_p[i] = true;
-            used_t[j] = true;
-            tp += 1;
-        }
-    }
+    // The workspace's one matcher: a maximum one-to-one matching (mir_eval's rule).
+    let tp = performance::match_events(truth, predicted, tolerance).len();
     let precision = if predicted.is_empty() {
         1.0
     } else {
@@ -181,7 +164,7 @@ mod tests {
             (m.true_positives, m.false_positives, m.false_negatives),
             (1, 1, 0)
         );
-        // Greedy by distance: 11 takes 12 (distance 1) and 9 takes 10, rather than 11 → 10.
+        // Maximum matching: 9 takes 10 and 11 takes 12, rather than 11 → 10 alone.
         let m = match_events(&[9, 11], &[10, 12], 2);
         assert_eq!(m.true_positives, 2);
     }

@@ -16,7 +16,7 @@
 
 use crate::render::biquad::Biquad;
 use crate::render::portato::portato_gain;
-use crate::render::{RenderError, RenderSettings, Renderer};
+use crate::render::renderer::{RenderError, RenderSettings, Renderer};
 use net_core::rng::Rng;
 use performance::{TimedNote, Timeline};
 

@@ -13,7 +13,7 @@ use std::sync::Arc;
 use rustysynth::{SoundFont, Synthesizer, SynthesizerSettings};
 
 use crate::render::portato::portato_gain;
-use crate::render::{RenderError, RenderSettings, Renderer};
+use crate::render::renderer::{RenderError, RenderSettings, Renderer};
 use net_core::rng::Rng;
 use performance::{TimedNote, Timeline};
 

@@ -1,7 +1,7 @@
 //! Additive rendering of a [`Score`] into a labelled [`SynthPiece`].
 
+use super::piece::{Rng, SynthConfig, SynthNote, SynthPiece};
 use super::score::{compose, Score};
-use super::{Rng, SynthConfig, SynthNote, SynthPiece};
 use crate::error::{PitchError, Result};
 
 /// Attack time constant of a bowed note, in seconds.

@@ -1,7 +1,7 @@
 //! The synthetic score: beats with rubato, a rhythm per bar, a melody over a chord per bar,
 //! articulations (slurs, repeats, rests) and accents.
 
-use super::{Rng, SynthConfig};
+use super::piece::{Rng, SynthConfig};
 
 /// One event of the score: a note or a rest.
 #[derive(Debug, Clone, Copy, PartialEq)]
