@@ -131,7 +131,7 @@ fn take_notes(notes: &[Note], chunk: &Chunk, out: &mut Vec<Note>) {
         if onset_s < chunk.core_start_s || onset_s >= chunk.core_end_s {
             continue;
         }
-        let mut note = n.clone();
+        let mut note = *n;
         note.onset_s = onset_s;
         note.offset_s = n.offset_s + chunk.window_start_s;
         if let Some(prev) = out.last_mut() {

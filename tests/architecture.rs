@@ -9,6 +9,8 @@
 //! * no FFT planner outside `dsp-mel`; no source file over 450 lines; no two source files
 //!   that import each other.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 mod common;
 
 use std::collections::{BTreeMap, BTreeSet};

@@ -206,7 +206,7 @@ impl Performance {
     /// let perf = Performance::builder(1.0).note(0.0, 0.5, 55).note(0.5, 1.0, 76).build()?;
     /// let fingered = perf.with_fingering(&OptimalPlanner::default())?;
     /// assert!(fingered.is_fingered());
-    /// # Ok::<(), fingering::FingeringError>(())
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn with_fingering<P: FingeringPlanner + ?Sized>(
         &self,
