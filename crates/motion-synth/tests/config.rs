@@ -6,7 +6,10 @@ use performance::Performance;
 
 #[test]
 fn bad_configs_are_rejected() {
-    let p = Performance::builder(2.0).note(0.0, 1.0, 67).build().unwrap();
+    let p = Performance::builder(2.0)
+        .note(0.0, 1.0, 67)
+        .build()
+        .unwrap();
     let cfg = SynthConfig {
         fps: 0.0,
         ..SynthConfig::default()
