@@ -3,27 +3,38 @@
 use crate::error::PerformanceError;
 use crate::note::Note;
 
+/// `value` (entry `index` of `field`) is finite and inside `[0, duration_s]`.
+fn check_time(
+    field: &'static str,
+    index: usize,
+    value: f64,
+    duration_s: f64,
+) -> Result<(), PerformanceError> {
+    if !value.is_finite() {
+        return Err(PerformanceError::NonFinite {
+            field,
+            index,
+            value,
+        });
+    }
+    if !(0.0..=duration_s).contains(&value) {
+        return Err(PerformanceError::OutOfRange {
+            field,
+            index,
+            value,
+            duration_s,
+        });
+    }
+    Ok(())
+}
+
 pub(crate) fn check_times(
     field: &'static str,
     times: &[f64],
     duration_s: f64,
 ) -> Result<(), PerformanceError> {
     for (index, &value) in times.iter().enumerate() {
-        if !value.is_finite() {
-            return Err(PerformanceError::NonFinite {
-                field,
-                index,
-                value,
-            });
-        }
-        if !(0.0..=duration_s).contains(&value) {
-            return Err(PerformanceError::OutOfRange {
-                field,
-                index,
-                value,
-                duration_s,
-            });
-        }
+        check_time(field, index, value, duration_s)?;
         if index > 0 && value <= times[index - 1] {
             return Err(PerformanceError::Unsorted {
                 field,
@@ -38,21 +49,7 @@ pub(crate) fn check_times(
 pub(crate) fn check_notes(notes: &mut [Note], duration_s: f64) -> Result<(), PerformanceError> {
     for (index, n) in notes.iter().enumerate() {
         for (field, value) in [("notes.onset_s", n.onset_s), ("notes.offset_s", n.offset_s)] {
-            if !value.is_finite() {
-                return Err(PerformanceError::NonFinite {
-                    field,
-                    index,
-                    value,
-                });
-            }
-            if !(0.0..=duration_s).contains(&value) {
-                return Err(PerformanceError::OutOfRange {
-                    field,
-                    index,
-                    value,
-                    duration_s,
-                });
-            }
+            check_time(field, index, value, duration_s)?;
         }
         if n.offset_s <= n.onset_s {
             return Err(PerformanceError::EmptyNote {
