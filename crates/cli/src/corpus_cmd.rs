@@ -20,20 +20,26 @@ pub enum RendererArg {
     Soundfont,
     /// Half and half.
     Mix,
+    /// Every violin source (built-in model and the Debian SoundFonts' violins, fiddle and
+    /// string section), split by work and by violin; with --repertoire, real music too.
+    Many,
 }
 
 /// Arguments of `corpus`.
 #[derive(Debug, Args)]
 #[command(
-    after_help = "Examples:\n  violin-skeleton corpus --out corpus --minutes 60 --seed 1\n  violin-skeleton corpus --out corpus --minutes 60 --renderer mix --soundfont /usr/share/sounds/sf2/FluidR3_GM.sf2\n\nThe same seed gives identical files. Layout: see crates/corpus/README.md."
+    after_help = "Examples:\n  violin-skeleton corpus --out corpus --hours 10 --seed 1 --renderer many --repertoire data/repertoire\n  violin-skeleton corpus --out corpus --minutes 60 --seed 1\n  violin-skeleton corpus --out corpus --minutes 60 --renderer mix --soundfont /usr/share/sounds/sf2/FluidR3_GM.sf2\n\nThe same seed gives identical files. Layout: see crates/corpus/README.md."
 )]
 pub struct CorpusArgs {
     /// Output folder (created if missing; items are replaced).
     #[arg(long)]
     pub out: PathBuf,
-    /// Minutes of audio to make.
-    #[arg(long, default_value_t = 10.0)]
-    pub minutes: f64,
+    /// Minutes of audio to make (default 10).
+    #[arg(long, conflicts_with = "hours")]
+    pub minutes: Option<f64>,
+    /// Hours of audio to make (instead of --minutes).
+    #[arg(long)]
+    pub hours: Option<f64>,
     /// Corpus seed.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
@@ -43,6 +49,12 @@ pub struct CorpusArgs {
     /// SF2 SoundFont for `soundfont`/`mix` (default: a Debian GM SoundFont if installed).
     #[arg(long)]
     pub soundfont: Option<PathBuf>,
+    /// Folder of the SoundFonts for `many` (FluidR3_GM.sf2, TimGM6mb.sf2, sf_GMbank.sf2).
+    #[arg(long, default_value = corpus::violins::SYSTEM_SF2_DIR)]
+    pub soundfont_dir: PathBuf,
+    /// Repertoire scores for `many` (written by scripts/export_repertoire.py).
+    #[arg(long)]
+    pub repertoire: Option<PathBuf>,
     /// Render clean audio (no reverb, noise, gain or tuning changes; 22 050 Hz).
     #[arg(long)]
     pub no_augment: bool,
@@ -62,9 +74,29 @@ pub fn run(args: &CorpusArgs, report: &Reporter) -> Result<(), CliError> {
         RendererArg::Builtin => RendererChoice::Builtin,
         RendererArg::Soundfont => RendererChoice::Soundfont(font()?),
         RendererArg::Mix => RendererChoice::Mix(font()?),
+        RendererArg::Many => RendererChoice::Many(args.soundfont_dir.clone()),
+    };
+    if args.repertoire.is_some() && !matches!(args.renderer, RendererArg::Many) {
+        return Err(CliError::Usage("--repertoire needs --renderer many".into()));
+    }
+    let minutes = match (args.minutes, args.hours) {
+        (_, Some(h)) if !(h.is_finite() && h > 0.0) => {
+            return Err(CliError::Usage(format!(
+                "--hours {h}: give a positive number of hours, e.g. --hours 10"
+            )))
+        }
+        (_, Some(h)) => h * 60.0,
+        (Some(m), None) if !(m.is_finite() && m > 0.0) => {
+            return Err(CliError::Usage(format!(
+                "--minutes {m}: give a positive number of minutes, e.g. --minutes 10"
+            )))
+        }
+        (Some(m), None) => m,
+        (None, None) => 10.0,
     };
     let cfg = CorpusConfig {
-        minutes: args.minutes,
+        minutes,
+        repertoire: args.repertoire.clone(),
         seed: args.seed,
         renderer,
         augment: !args.no_augment,

@@ -24,6 +24,9 @@ pub enum RendererChoice {
     /// Half and half: item `i` uses the SoundFont when `(i + i / 10)` is odd, so every split
     /// (test = indices ending in 3, validation = in 7) gets both renderers.
     Mix(PathBuf),
+    /// Every source of [`crate::violins::VIOLINS`] (SoundFonts read from this folder), split
+    /// by violin and by work ([`crate::schedule`]).
+    Many(PathBuf),
 }
 
 impl RendererChoice {
@@ -33,6 +36,7 @@ impl RendererChoice {
             RendererChoice::Builtin => "builtin",
             RendererChoice::Soundfont(_) => "soundfont",
             RendererChoice::Mix(_) => "mix",
+            RendererChoice::Many(_) => "many",
         }
     }
 }
@@ -56,6 +60,9 @@ pub struct CorpusConfig {
     pub augment: bool,
     /// The étude generator's settings.
     pub etude: EtudeConfig,
+    /// Repertoire scores (`scripts/export_repertoire.py` output) mixed with the études
+    /// (many-violin corpora only).
+    pub repertoire: Option<PathBuf>,
 }
 
 impl Default for CorpusConfig {
@@ -66,6 +73,7 @@ impl Default for CorpusConfig {
             renderer: RendererChoice::Builtin,
             augment: true,
             etude: EtudeConfig::default(),
+            repertoire: None,
         }
     }
 }
@@ -108,9 +116,12 @@ pub fn build_corpus(
         path: root.to_path_buf(),
         reason: format!("cannot create the corpus folder ({e})"),
     })?;
+    if let RendererChoice::Many(sf2_dir) = &cfg.renderer {
+        return crate::many::build_many(root, cfg, sf2_dir, progress);
+    }
     let builtin = BowedStringSynth::default();
     let font = match &cfg.renderer {
-        RendererChoice::Builtin => None,
+        RendererChoice::Builtin | RendererChoice::Many(_) => None,
         RendererChoice::Soundfont(p) | RendererChoice::Mix(p) => {
             Some(SoundFontRenderer::from_file(p)?)
         }
@@ -141,7 +152,7 @@ pub fn build_corpus(
             )?;
             write_item(root, i, &item)?;
             progress(done.fetch_add(1, Ordering::Relaxed) + 1, count);
-            let meter = item.etude.meter.name().to_string();
+            let meter = item.time_signature.to_string();
             let entry = ManifestItem {
                 id: i,
                 dir: format!("items/{i:05}"),
@@ -149,9 +160,17 @@ pub fn build_corpus(
                 renderer: kind,
                 duration_s: item.timeline.duration_s,
                 meter: meter.clone(),
-                tempo_bpm: item.etude.tempo_bpm,
+                tempo_bpm: item.timeline.tempo_bpm,
                 notes: item.timeline.notes.len(),
                 augmentation: item.augmentation,
+                held_out: crate::schedule::HeldOut::None,
+                violin: kind.name().into(),
+                work: item.score.work.clone(),
+                score: item.score.id.clone(),
+                source: item.score.provenance.source.clone(),
+                license: item.score.provenance.license.clone(),
+                audio: "audio.wav".into(),
+                timing: None,
             };
             Ok((entry, item.timeline, meter))
         })
@@ -164,6 +183,9 @@ pub fn build_corpus(
         renderer: cfg.renderer.name().to_string(),
         items: entries.into_iter().map(|(e, _, _)| e).collect(),
         stats,
+        violins: Vec::new(),
+        skipped_scores: Vec::new(),
+        double_stops_reduced: 0,
     };
     let json =
         serde_json::to_string_pretty(&manifest).map_err(|e| CorpusError::Config(e.to_string()))?;

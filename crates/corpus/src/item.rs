@@ -1,15 +1,16 @@
 //! One corpus item: an étude, its timeline, its ground-truth `Performance`, audio and motion.
 
 use motion_synth::{synthesize, SynthConfig};
-use performance::Performance;
+use performance::{BowStroke, Performance, TimeSignature};
 use serde::{Deserialize, Serialize};
 use skeleton::Motion;
 
 use crate::augment::Augmentation;
 use crate::error::CorpusError;
 use crate::etude::{generate, EtudeConfig};
+use crate::perform::{bow_strokes, perform, TimingDraw};
 use crate::render::{RenderSettings, Renderer};
-use crate::score::Etude;
+use crate::score::Score;
 use crate::timing::play;
 use net_core::rng::Rng;
 use performance::Timeline;
@@ -24,11 +25,21 @@ pub enum RendererKind {
     Soundfont,
 }
 
+impl RendererKind {
+    /// "builtin" or "soundfont".
+    pub fn name(self) -> &'static str {
+        match self {
+            RendererKind::Builtin => "builtin",
+            RendererKind::Soundfont => "soundfont",
+        }
+    }
+}
+
 /// Everything made for one item, in memory.
 #[derive(Debug, Clone)]
 pub struct CorpusItem {
-    /// The written étude.
-    pub etude: Etude,
+    /// The written music (an étude or a repertoire excerpt).
+    pub score: Score,
     /// The étude as played (seconds, labels).
     pub timeline: Timeline,
     /// The ground-truth performance (motion-synth's input).
@@ -41,6 +52,14 @@ pub struct CorpusItem {
     pub augmentation: Augmentation,
     /// Which renderer made the audio.
     pub renderer: RendererKind,
+    /// Bow strokes with direction and string.
+    pub strokes: Vec<BowStroke>,
+    /// The main time signature.
+    pub time_signature: TimeSignature,
+    /// Local tempo at each beat, notated beats per minute.
+    pub tempo_bpm_per_beat: Vec<f64>,
+    /// How the performance was timed (`None` for the gentle étude player).
+    pub timing: Option<TimingDraw>,
 }
 
 /// The timeline as a validated [`Performance`] with fingering and dynamics.
@@ -79,13 +98,79 @@ pub fn make_item(
     };
     let mut audio = renderer.render(&timeline, &settings)?;
     augmentation.apply(&mut audio, root.fork(5).next_u64());
+    let on_downbeat: Vec<bool> = timeline
+        .notes
+        .iter()
+        .map(|n| {
+            timeline
+                .downbeats_s
+                .iter()
+                .any(|d| (d - n.note.onset_s).abs() < 1e-6)
+        })
+        .collect();
+    let strokes = bow_strokes(&timeline, &on_downbeat, root.fork(6).next_u64());
+    let tempo_bpm_per_beat = timeline
+        .beats_s
+        .windows(2)
+        .map(|w| 60.0 / (w[1] - w[0]).max(1e-6))
+        .collect();
     Ok(CorpusItem {
-        etude,
+        score: etude.to_score(&format!("etude/{seed}")),
+        time_signature: etude.meter.time_signature(),
         timeline,
         performance,
         motion,
         audio,
         augmentation,
         renderer: kind,
+        strokes,
+        tempo_bpm_per_beat,
+        timing: None,
+    })
+}
+
+/// Makes an item from a written `score` (an étude's or a repertoire excerpt): a human
+/// performance drawn from `seed` ([`perform`]), fingering by the optimal planner, motion,
+/// bow strokes, and audio from `renderer` with a seeded [`Augmentation`] (or none).
+pub fn make_score_item(
+    score: &Score,
+    seed: u64,
+    renderer: &dyn Renderer,
+    kind: RendererKind,
+    augment: bool,
+) -> Result<CorpusItem, CorpusError> {
+    let root = Rng::new(seed);
+    let played = perform(score, root.fork(2).next_u64(), (40.0, 200.0));
+    let mut timeline = played.timeline;
+    timeline.assign_fingering(&fingering::OptimalPlanner::default());
+    let performance = performance_of(&timeline)?;
+    let motion = synthesize(&performance, &SynthConfig::default())
+        .map_err(|e| CorpusError::Performance(e.to_string()))?;
+    let strokes = bow_strokes(&timeline, &played.on_downbeat, root.fork(6).next_u64());
+    let mut aug_rng = root.fork(3);
+    let augmentation = if augment {
+        Augmentation::draw(&mut aug_rng)
+    } else {
+        Augmentation::none(22_050)
+    };
+    let settings = RenderSettings {
+        sample_rate_hz: augmentation.sample_rate_hz,
+        tuning_cents: augmentation.tuning_cents,
+        seed: root.fork(4).next_u64(),
+    };
+    let mut audio = renderer.render(&timeline, &settings)?;
+    augmentation.apply(&mut audio, root.fork(5).next_u64());
+    Ok(CorpusItem {
+        score: score.clone(),
+        timeline,
+        performance,
+        motion,
+        audio,
+        augmentation,
+        renderer: kind,
+        strokes,
+        time_signature: played.time_signature,
+        tempo_bpm_per_beat: played.tempo_bpm_per_beat,
+        timing: Some(played.timing),
     })
 }

@@ -4,8 +4,10 @@
 //! |---|---|
 //! | `audio.wav` | mono 16-bit PCM at the item's sample rate |
 //! | `performance.json` | the ground-truth `performance::Performance` |
-//! | `notes.tsv` | `onset_s`, `offset_s`, `midi` separated by tabs, with a header |
-//! | `bowchanges.txt`, `beats.txt`, `downbeats.txt` | one time in seconds per line |
+//! | `notes.tsv` | `onset_s`, `offset_s`, `midi`, `string` (1 = G … 4 = E, 0 = none), `position`, `finger`, `dynamic` (0..1) separated by tabs, with a header |
+//! | `bowchanges.txt`, `beats.txt`, `downbeats.txt` | one time in seconds per line (beats at the notated level: dotted quarters in 6/8, 9/8, 12/8; one per bar in 3/8) |
+//! | `strokes.tsv` | `start_s`, `end_s`, `direction` (`down`/`up`), `string` (1..=4, 0 = none) |
+//! | `labels.json` | `time_signature`, `beats_per_bar`, `beat_quarters`, `tempo_bpm` (nominal), `tempo_bpm_per_beat` |
 //! | `arousal.csv` | `time_s,arousal` at 2 Hz, in [-1, 1] |
 //! | `motion.json` | ground-truth motion (skeleton's motion JSON) |
 //!
@@ -56,15 +58,39 @@ pub fn write_item(root: &Path, index: usize, item: &CorpusItem) -> Result<PathBu
     )?;
     let perf = serde_json::to_string(&item.performance).map_err(|e| io_err(dir, e))?;
     write_text(&dir.join("performance.json"), &perf)?;
-    let mut notes = String::from("onset_s\toffset_s\tmidi\n");
+    let mut notes = String::from("onset_s\toffset_s\tmidi\tstring\tposition\tfinger\tdynamic\n");
     for n in &item.timeline.notes {
+        let (string, position, finger) = n
+            .note
+            .fingering
+            .map_or((0, 0, 0), |f| (f.string.number(), f.position, f.finger));
         let _ = writeln!(
             notes,
-            "{:.6}\t{:.6}\t{}",
-            n.note.onset_s, n.note.offset_s, n.note.midi
+            "{:.6}\t{:.6}\t{}\t{string}\t{position}\t{finger}\t{:.3}",
+            n.note.onset_s, n.note.offset_s, n.note.midi, n.dynamic
         );
     }
     write_text(&dir.join("notes.tsv"), &notes)?;
+    let mut strokes = String::from("start_s\tend_s\tdirection\tstring\n");
+    for s in &item.strokes {
+        let dir = match s.direction {
+            performance::BowDirection::Down => "down",
+            performance::BowDirection::Up => "up",
+        };
+        let string = s.string.map_or(0, |x| x.number());
+        let _ = writeln!(strokes, "{:.6}\t{:.6}\t{dir}\t{string}", s.start_s, s.end_s);
+    }
+    write_text(&dir.join("strokes.tsv"), &strokes)?;
+    let labels = serde_json::json!({
+        "time_signature": item.time_signature.to_string(),
+        "beats_per_bar": item.time_signature.meter().beats_per_bar,
+        "beat_quarters": item.time_signature.beat_quarters(),
+        "tempo_bpm": item.timeline.tempo_bpm,
+        "tempo_bpm_per_beat": item.tempo_bpm_per_beat,
+        "work": item.score.work,
+        "score": item.score.id,
+    });
+    write_text(&dir.join("labels.json"), &labels.to_string())?;
     write_text(
         &dir.join("bowchanges.txt"),
         &times(&item.timeline.bow_changes_s()),

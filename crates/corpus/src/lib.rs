@@ -28,10 +28,15 @@ pub mod etude;
 pub mod item;
 pub mod layout;
 pub mod manifest;
+mod many;
 pub mod melodies;
+pub mod perform;
 pub mod render;
+pub mod repertoire;
+pub mod schedule;
 pub mod score;
 pub mod stats;
 pub mod timing;
+pub mod violins;
 
 pub use error::CorpusError;

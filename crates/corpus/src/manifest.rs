@@ -4,10 +4,18 @@ use serde::{Deserialize, Serialize};
 
 use crate::augment::Augmentation;
 use crate::item::RendererKind;
+use crate::perform::TimingDraw;
+use crate::repertoire::SkippedScore;
+use crate::schedule::HeldOut;
 use crate::stats::CorpusStats;
+use crate::violins::ViolinInfo;
+
+fn default_audio() -> String {
+    "audio.wav".into()
+}
 
 /// Format version of `manifest.json`.
-pub const MANIFEST_VERSION: u32 = 1;
+pub const MANIFEST_VERSION: u32 = 2;
 
 /// Train / validation / test.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -76,6 +84,30 @@ pub struct ManifestItem {
     pub notes: usize,
     /// Augmentation applied.
     pub augmentation: Augmentation,
+    /// What this test item holds out (evaluation reports each set apart).
+    #[serde(default)]
+    pub held_out: HeldOut,
+    /// Violin source (see [`crate::violins`]); the renderer's name in version-1 manifests.
+    #[serde(default)]
+    pub violin: String,
+    /// The work the music comes from ("etude/…" for études).
+    #[serde(default)]
+    pub work: String,
+    /// The score part and bars used.
+    #[serde(default)]
+    pub score: String,
+    /// Where the music comes from and its licence.
+    #[serde(default)]
+    pub source: String,
+    /// Licence of the music.
+    #[serde(default)]
+    pub license: String,
+    /// The audio file inside the item folder.
+    #[serde(default = "default_audio")]
+    pub audio: String,
+    /// How the performance was timed.
+    #[serde(default)]
+    pub timing: Option<TimingDraw>,
 }
 
 /// The whole manifest.
@@ -91,4 +123,13 @@ pub struct Manifest {
     pub items: Vec<ManifestItem>,
     /// Statistics over all items.
     pub stats: CorpusStats,
+    /// Violin sources and their licences (many-violin corpora).
+    #[serde(default)]
+    pub violins: Vec<ViolinInfo>,
+    /// Repertoire files that were not used, with the reason.
+    #[serde(default)]
+    pub skipped_scores: Vec<SkippedScore>,
+    /// Chords reduced to their top note (double stops are not rendered yet).
+    #[serde(default)]
+    pub double_stops_reduced: usize,
 }

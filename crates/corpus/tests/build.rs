@@ -17,6 +17,7 @@ fn small(renderer: RendererChoice) -> CorpusConfig {
             target_s: 10.0,
             ..EtudeConfig::default()
         },
+        repertoire: None,
     }
 }
 

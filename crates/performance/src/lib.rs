@@ -41,6 +41,7 @@ mod meter;
 pub mod midi;
 mod note;
 mod performance;
+mod stroke;
 mod timeline;
 mod validate;
 
@@ -51,8 +52,9 @@ pub use arousal::{arousal_proxy_of_spans, ArousalCurve};
 pub use error::MidiError;
 pub use error::{PerformanceError, PerformanceFileError};
 pub use matching::{event_prf, f_measure, match_events, Prf};
-pub use meter::Meter;
+pub use meter::{Meter, TimeSignature};
 pub use note::Note;
+pub use stroke::{BowDirection, BowStroke};
 pub use timeline::{arousal_proxy, TimedNote, Timeline};
 
 /// The README's example, compiled and run as a doctest.

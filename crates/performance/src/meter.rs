@@ -38,3 +38,80 @@ impl Meter {
         subdivisions: 3,
     };
 }
+
+/// A written time signature, e.g. 6/8, and the **notated beat** it implies: a quarter in
+/// 2/4, 3/4, 4/4; a half in 2/2 and 3/2; a dotted quarter in 6/8, 9/8, 12/8 (compound
+/// metres are counted in dotted beats); and one dotted quarter per bar in 3/8, whose beats
+/// are therefore its downbeats. Other signatures (5/8, 7/8, 5/4) count their written unit.
+///
+/// ```
+/// use performance::{Meter, TimeSignature};
+/// let six_eight = TimeSignature::new(6, 8);
+/// assert_eq!(six_eight.meter(), Meter::SIX_EIGHT);
+/// assert_eq!(six_eight.beat_quarters(), 1.5);
+/// assert_eq!(TimeSignature::new(3, 8).meter().beats_per_bar, 1);
+/// assert_eq!(TimeSignature::new(2, 2).beat_quarters(), 2.0);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct TimeSignature {
+    /// Upper figure.
+    pub numerator: u8,
+    /// Lower figure (a power of two).
+    pub denominator: u8,
+}
+
+impl TimeSignature {
+    /// `numerator`/`denominator`.
+    pub const fn new(numerator: u8, denominator: u8) -> Self {
+        Self {
+            numerator,
+            denominator,
+        }
+    }
+
+    /// Whether the signature is valid: numerator 1..=32, denominator 1, 2, 4, 8, 16 or 32.
+    pub fn is_valid(self) -> bool {
+        (1..=32).contains(&self.numerator) && [1, 2, 4, 8, 16, 32].contains(&self.denominator)
+    }
+
+    /// Compound (6/8, 9/8, 12/8, 6/16, …) or 3/8: counted in dotted beats of three units.
+    fn dotted(self) -> bool {
+        self.denominator >= 8 && self.numerator % 3 == 0
+    }
+
+    /// Beats per bar and their subdivision at the notated level.
+    pub fn meter(self) -> Meter {
+        if self.dotted() {
+            Meter {
+                beats_per_bar: (self.numerator / 3).max(1),
+                subdivisions: 3,
+            }
+        } else {
+            Meter {
+                beats_per_bar: self.numerator.max(1),
+                subdivisions: 2,
+            }
+        }
+    }
+
+    /// Length of one notated beat in quarter notes.
+    pub fn beat_quarters(self) -> f64 {
+        let unit = 4.0 / f64::from(self.denominator.max(1));
+        if self.dotted() {
+            3.0 * unit
+        } else {
+            unit
+        }
+    }
+
+    /// Length of a full bar in quarter notes.
+    pub fn bar_quarters(self) -> f64 {
+        f64::from(self.numerator) * 4.0 / f64::from(self.denominator.max(1))
+    }
+}
+
+impl std::fmt::Display for TimeSignature {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}/{}", self.numerator, self.denominator)
+    }
+}

@@ -57,6 +57,23 @@ impl SoundFontRenderer {
             program: 40,
         })
     }
+
+    /// The same font playing GM program `program` (0-based: 40 violin, 48 string ensemble,
+    /// 110 fiddle).
+    pub fn with_program(&self, program: u8) -> Self {
+        Self {
+            font: Arc::clone(&self.font),
+            program: program.min(127),
+        }
+    }
+
+    /// Whether the font has a preset for GM program `program` in bank 0.
+    pub fn has_program(&self, program: u8) -> bool {
+        self.font
+            .get_presets()
+            .iter()
+            .any(|p| p.get_bank_number() == 0 && p.get_patch_number() == i32::from(program))
+    }
 }
 
 struct Synth {
@@ -123,6 +140,14 @@ impl Renderer for SoundFontRenderer {
                 (depth, rng.uniform(5.0, 7.0), rng.uniform(0.12, 0.3))
             })
             .collect();
+        // Per-note intonation (±4 cents) and bow-weight (velocity ±6) variation.
+        let mut var_rng = rng.fork(7);
+        let detune: Vec<f64> = (0..timeline.notes.len())
+            .map(|_| var_rng.uniform(-0.04, 0.04))
+            .collect();
+        let vel_jitter: Vec<i32> = (0..timeline.notes.len())
+            .map(|_| var_rng.int(-6, 6) as i32)
+            .collect();
         let tune = settings.tuning_cents / 100.0;
         let n_samples = (timeline.duration_s * f64::from(sr)).ceil() as usize;
         let mut out = Vec::with_capacity(n_samples);
@@ -154,12 +179,16 @@ impl Renderer for SoundFontRenderer {
                         held = Some((old_key, next));
                     }
                     Some((old_key, _)) => {
-                        synth.inner.note_on(0, key, velocity(n));
+                        synth
+                            .inner
+                            .note_on(0, key, (velocity(n) + vel_jitter[next]).clamp(1, 127));
                         synth.inner.note_off(0, old_key);
                         held = Some((key, next));
                     }
                     None => {
-                        synth.inner.note_on(0, key, velocity(n));
+                        synth
+                            .inner
+                            .note_on(0, key, (velocity(n) + vel_jitter[next]).clamp(1, 127));
                         held = Some((key, next));
                     }
                 }
@@ -198,7 +227,7 @@ impl Renderer for SoundFontRenderer {
                     target += ramp * depth / 100.0
                         * (std::f64::consts::TAU * rate * (since - delay)).sin();
                 }
-                synth.bend(target - f64::from(key) + tune);
+                synth.bend(target - f64::from(key) + tune + detune[idx]);
             }
             let len = BLOCK.min(n_samples - pos);
             synth.inner.render(&mut left[..len], &mut right[..len]);

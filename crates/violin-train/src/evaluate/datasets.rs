@@ -77,7 +77,9 @@ enum LabelSource {
 pub struct LabelledRecording {
     /// Item folder or track file name.
     pub name: String,
-    /// Renderer (`builtin`, `soundfont`) or `urmp`.
+    /// Evaluation set of a many-violin corpus (`in-distribution`, `held-out violin`,
+    /// `held-out repertoire`, `held-out both`), the renderer (`builtin`, `soundfont`) of an
+    /// older corpus, or `urmp`.
     pub group: String,
     /// The audio file.
     pub audio: PathBuf,
@@ -335,11 +337,14 @@ pub fn find_recordings(dir: &Path, split: SplitChoice) -> Result<(Layout, Vec<La
                 let item_dir = dir.join(&it.dir);
                 LabelledRecording {
                     name: it.dir.clone(),
-                    group: match it.renderer {
-                        corpus::item::RendererKind::Builtin => "builtin".into(),
-                        corpus::item::RendererKind::Soundfont => "soundfont".into(),
+                    // Many-violin corpora report each evaluation set side by side;
+                    // older corpora report per renderer.
+                    group: if manifest.renderer == "many" {
+                        it.held_out.set_name().into()
+                    } else {
+                        it.renderer.name().into()
                     },
-                    audio: item_dir.join("audio.wav"),
+                    audio: item_dir.join(&it.audio),
                     labels: LabelSource::Corpus {
                         dir: item_dir,
                         tuning_cents: it.augmentation.tuning_cents,

@@ -269,8 +269,17 @@ impl EvaluationReport {
 
     /// A plain-text table: one column per group and one for everything.
     pub fn table(&self) -> String {
+        // Held-out sets first, in-distribution last, then everything.
+        let rank = |k: &str| match k {
+            "held-out both" => 0,
+            "held-out repertoire" => 1,
+            "held-out violin" => 2,
+            "in-distribution" => 3,
+            _ => 4,
+        };
         let mut cols: Vec<(&str, &ScoreSummary)> =
             self.groups.iter().map(|(k, v)| (k.as_str(), v)).collect();
+        cols.sort_by_key(|(k, _)| rank(k));
         cols.push(("all", &self.overall));
         // (label, value, decimals; `None` decimals = scientific notation)
         type Row = (
@@ -305,7 +314,10 @@ impl EvaluationReport {
         ];
         let mut out = format!("{:<24}", "");
         for (name, _) in &cols {
-            out.push_str(&format!("{name:>11}"));
+            let short = name
+                .replace("held-out ", "ho-")
+                .replace("in-distribution", "in-dist");
+            out.push_str(&format!("{short:>11}"));
         }
         out.push('\n');
         for (label, get, digits) in rows {

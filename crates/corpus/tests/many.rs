@@ -1,0 +1,182 @@
+//! A many-violin corpus with repertoire: splits by work and violin, labels, determinism,
+//! and the bad inputs the builder must refuse or skip.
+
+use std::path::Path;
+
+use corpus::build::{build_corpus, CorpusConfig, RendererChoice};
+use corpus::manifest::Split;
+use corpus::repertoire::{read_dir, read_score};
+use corpus::schedule::{work_split, HeldOut};
+
+fn tiny_repertoire(dir: &Path) {
+    // Two short tunes in 6/8 and 3/8 with a pickup, slurs and a fermata, in the score schema.
+    for (name, num, den, pickup) in [("jig", 6u8, 8u8, 0.5), ("waltz", 3, 8, 0.0)] {
+        let bar_q = f64::from(num) * 4.0 / f64::from(den);
+        let mut bars = vec![
+            serde_json::json!({"start_q": 0.0, "len_q": if pickup > 0.0 { pickup } else { bar_q }, "numerator": num, "denominator": den}),
+        ];
+        let mut start = if pickup > 0.0 { pickup } else { bar_q };
+        for _ in 0..12 {
+            bars.push(serde_json::json!({"start_q": start, "len_q": bar_q, "numerator": num, "denominator": den}));
+            start += bar_q;
+        }
+        let mut notes = Vec::new();
+        let mut q = 0.0;
+        let mut k = 0;
+        while q < start - 1e-9 {
+            notes.push(serde_json::json!({
+                "start_q": q, "dur_q": 0.5, "midi": [67 + (k * 5) % 12],
+                "slurred": k % 3 == 1, "staccato": k % 7 == 0, "accent": false,
+                "fermata": q + 0.5 >= start - 1e-9, "dynamic": null
+            }));
+            q += 0.5;
+            k += 1;
+        }
+        let score = serde_json::json!({
+            "schema": "violin-skeleton-score/1", "id": format!("test/{name}"),
+            "work": format!("test/{name}"), "collection": "test", "title": name,
+            "source": "generated in tests/many.rs", "license": "ours", "tempo_qpm": null,
+            "bars": bars, "notes": notes
+        });
+        std::fs::write(dir.join(format!("{name}.json")), score.to_string()).unwrap();
+    }
+    std::fs::write(dir.join("broken.json"), "{\"schema\": ").unwrap();
+    let reserved = std::fs::read_to_string(dir.join("jig.json"))
+        .unwrap()
+        .replace("test/jig", "mozart/k458/movement1/violin1");
+    std::fs::write(dir.join("reserved.json"), reserved).unwrap();
+}
+
+fn sf2_dir() -> Option<&'static Path> {
+    let d = Path::new(corpus::violins::SYSTEM_SF2_DIR);
+    ["FluidR3_GM.sf2", "TimGM6mb.sf2", "sf_GMbank.sf2"]
+        .iter()
+        .all(|f| d.join(f).is_file())
+        .then_some(d)
+}
+
+#[test]
+fn repertoire_reader_skips_broken_and_reserved_files() {
+    let dir = tempfile::tempdir().unwrap();
+    tiny_repertoire(dir.path());
+    let (scores, skipped) = read_dir(dir.path()).unwrap();
+    assert_eq!(scores.len(), 2);
+    assert_eq!(skipped.len(), 2, "{skipped:?}");
+    assert!(skipped.iter().any(|s| s.reason.contains("reserved")));
+    assert!(skipped
+        .iter()
+        .any(|s| s.reason.contains("not a score file")));
+    let jig = read_score(&dir.path().join("jig.json")).unwrap();
+    // 6/8 with a one-eighth pickup: beats are dotted quarters, the pickup has no beat.
+    let beats = jig.beats_q();
+    assert!((beats[0].0 - 0.5).abs() < 1e-9 && beats[0].1);
+    assert!((beats[1].0 - 2.0).abs() < 1e-9 && !beats[1].1);
+    let waltz = read_score(&dir.path().join("waltz.json")).unwrap();
+    // 3/8: one beat per bar, every beat a downbeat.
+    assert!(waltz.beats_q().iter().all(|(_, down)| *down));
+    assert!(read_dir(&dir.path().join("missing")).is_err());
+}
+
+#[test]
+fn many_violin_corpus_splits_by_work_and_violin() {
+    let Some(sf2) = sf2_dir() else {
+        panic!("the Debian SoundFonts are missing: apt-get install fluid-soundfont-gm timgm6mb-soundfont csound-soundfont (.ci/run installs them)");
+    };
+    let rep = tempfile::tempdir().unwrap();
+    tiny_repertoire(rep.path());
+    let out = tempfile::tempdir().unwrap();
+    let cfg = CorpusConfig {
+        minutes: 2.5,
+        seed: 4,
+        renderer: RendererChoice::Many(sf2.to_path_buf()),
+        repertoire: Some(rep.path().to_path_buf()),
+        ..CorpusConfig::default()
+    };
+    let m = build_corpus(out.path(), &cfg, &|_, _| {}).unwrap();
+    assert!(m.stats.minutes > 2.0, "{} min", m.stats.minutes);
+    assert_eq!(m.skipped_scores.len(), 2);
+    let held: Vec<_> = m
+        .violins
+        .iter()
+        .filter(|v| v.held_out)
+        .map(|v| v.name.clone())
+        .collect();
+    assert_eq!(held.len(), 2);
+    for it in &m.items {
+        let violin_out = held.contains(&it.violin);
+        // Held-out violins play only test items, and only the violin/both sets.
+        if violin_out {
+            assert_eq!(it.split, Split::Test);
+            assert!(matches!(it.held_out, HeldOut::Violin | HeldOut::Both));
+        }
+        if matches!(it.held_out, HeldOut::Repertoire | HeldOut::Both) {
+            assert_eq!(work_split(&it.work), Split::Test);
+        }
+        if it.split == Split::Train && !it.work.starts_with("etude/") {
+            assert_eq!(work_split(&it.work), Split::Train);
+        }
+        // Every bow change lies on a note onset; strokes alternate or retake.
+        let dir = out.path().join(&it.dir);
+        let onsets: Vec<f64> = std::fs::read_to_string(dir.join("notes.tsv"))
+            .unwrap()
+            .lines()
+            .skip(1)
+            .map(|l| l.split('\t').next().unwrap().parse().unwrap())
+            .collect();
+        for line in std::fs::read_to_string(dir.join("bowchanges.txt"))
+            .unwrap()
+            .lines()
+        {
+            let t: f64 = line.parse().unwrap();
+            assert!(onsets.iter().any(|o| (o - t).abs() < 1e-5));
+        }
+        let strokes = std::fs::read_to_string(dir.join("strokes.tsv")).unwrap();
+        assert_eq!(
+            strokes.lines().count() - 1,
+            std::fs::read_to_string(dir.join("bowchanges.txt"))
+                .unwrap()
+                .lines()
+                .count()
+        );
+    }
+    let sets: std::collections::BTreeSet<_> = m
+        .items
+        .iter()
+        .filter(|i| i.split == Split::Test)
+        .map(|i| i.held_out)
+        .collect();
+    assert!(
+        sets.contains(&HeldOut::None) && sets.contains(&HeldOut::Violin),
+        "{sets:?}"
+    );
+    // Same seed, same bytes.
+    let again = tempfile::tempdir().unwrap();
+    build_corpus(again.path(), &cfg, &|_, _| {}).unwrap();
+    for it in m.items.iter().take(4) {
+        for f in ["audio.wav", "notes.tsv", "strokes.tsv", "labels.json"] {
+            assert_eq!(
+                std::fs::read(out.path().join(&it.dir).join(f)).unwrap(),
+                std::fs::read(again.path().join(&it.dir).join(f)).unwrap(),
+                "{} {f}",
+                it.dir
+            );
+        }
+    }
+}
+
+#[test]
+fn a_missing_soundfont_folder_is_refused_with_its_path() {
+    let out = tempfile::tempdir().unwrap();
+    let cfg = CorpusConfig {
+        minutes: 1.0,
+        renderer: RendererChoice::Many("/nonexistent/sf2".into()),
+        ..CorpusConfig::default()
+    };
+    let e = build_corpus(out.path(), &cfg, &|_, _| {})
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("/nonexistent/sf2") && e.contains("install"),
+        "{e}"
+    );
+}

@@ -1,0 +1,44 @@
+//! [`BowStroke`]: one stroke of the bow, its direction and the string it plays.
+
+use fingering::ViolinString;
+use serde::{Deserialize, Serialize};
+
+/// Which way the bow moves: down-bow (frog to tip) or up-bow (tip to frog).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum BowDirection {
+    /// Frog to tip (pulled).
+    Down,
+    /// Tip to frog (pushed).
+    Up,
+}
+
+impl BowDirection {
+    /// The other direction.
+    pub fn flipped(self) -> Self {
+        match self {
+            BowDirection::Down => BowDirection::Up,
+            BowDirection::Up => BowDirection::Down,
+        }
+    }
+}
+
+/// One bow stroke: from a bow change (or the first note after a rest) to the next, with its
+/// direction and the string of its first note (`None` when the note has no fingering).
+///
+/// ```
+/// use performance::{BowDirection, BowStroke};
+/// let s = BowStroke { start_s: 0.5, end_s: 1.0, direction: BowDirection::Down, string: None };
+/// assert_eq!(s.direction.flipped(), BowDirection::Up);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct BowStroke {
+    /// Onset of the stroke's first note, seconds.
+    pub start_s: f64,
+    /// End of the stroke's last note, seconds.
+    pub end_s: f64,
+    /// Down or up.
+    pub direction: BowDirection,
+    /// The string of the stroke's first note.
+    pub string: Option<ViolinString>,
+}
