@@ -30,6 +30,7 @@ pub mod layout;
 pub mod manifest;
 pub mod melodies;
 pub mod render;
+pub mod room;
 pub mod score;
 pub mod stats;
 pub mod timing;
