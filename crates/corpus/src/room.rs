@@ -249,7 +249,10 @@ impl Recording {
             .collect();
         let mut chans = Vec::with_capacity(n_ch);
         for c in 0..n_ch {
-            chans.push(ir::convolve(&dry, &self.impulse_response(c, sample_rate_hz))?);
+            chans.push(ir::convolve(
+                &dry,
+                &self.impulse_response(c, sample_rate_hz),
+            )?);
         }
         let n = dry.len();
         let total = (n * n_ch).max(1) as f64;

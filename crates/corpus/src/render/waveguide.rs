@@ -66,7 +66,7 @@ impl Default for WaveguideConfig {
             glide_s: (0.01, 0.03),
             string_t60_s: (0.8, 2.0),
             damp_t60_s: (0.06, 0.12),
-            output_gain: 1.2,
+            output_gain: 0.3,
         }
     }
 }

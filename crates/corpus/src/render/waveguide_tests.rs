@@ -178,7 +178,13 @@ fn extreme_settings_stay_finite() {
     let mut notes = Vec::new();
     let mut t = 0.0;
     for (k, midi) in [100u8, 55, 100, 127, 30, 88].iter().enumerate() {
-        let mut n = tn(t, t + 0.02, *midi, k % 2 == 0, if k % 2 == 0 { 1.0 } else { 0.0 });
+        let mut n = tn(
+            t,
+            t + 0.02,
+            *midi,
+            k % 2 == 0,
+            if k % 2 == 0 { 1.0 } else { 0.0 },
+        );
         n.accent = k % 3 == 0;
         notes.push(n);
         t += 0.02;
@@ -189,7 +195,10 @@ fn extreme_settings_stay_finite() {
         let audio = WaveguideViolin::default()
             .render(&tl, &settings(sr, 3))
             .unwrap();
-        assert!(audio.iter().all(|x| x.is_finite() && x.abs() < 10.0), "{sr} Hz");
+        assert!(
+            audio.iter().all(|x| x.is_finite() && x.abs() < 10.0),
+            "{sr} Hz"
+        );
     }
     let empty = timeline(vec![], 0.5);
     let audio = WaveguideViolin::default()

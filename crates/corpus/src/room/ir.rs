@@ -106,7 +106,11 @@ pub(crate) fn impulse_response(spec: &IrSpec, sr: f64) -> Vec<f64> {
     let (a_lo, a_hi) = (one_pole(500.0, sr), one_pole(4_000.0, sr));
     let (mut lp_lo, mut lp_hi) = (0.0, 0.0);
     let k = -6.907_755_278_982_137 / sr; // ln(10⁻³) per sample
-    let decay = [(k / (1.2 * rt)).exp(), (k / rt).exp(), (k / (0.5 * rt)).exp()];
+    let decay = [
+        (k / (1.2 * rt)).exp(),
+        (k / rt).exp(),
+        (k / (0.5 * rt)).exp(),
+    ];
     let mut env = [1.0f64; 3];
     let start = (first_tap * sr) as usize;
     let fade = (0.01 * sr).max(1.0);

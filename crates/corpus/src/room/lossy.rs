@@ -41,10 +41,17 @@ impl LossyEncoding {
 
     /// The encoder program and its arguments for `wav_path` → `out_path`.
     ///
-    /// * `lame --quiet --noreplaygain -b N`: constant bit rate; no ID3 tag is written (none
-    ///   is asked for), and the LAME header holds only the encoder version and settings;
+    /// * `lame --quiet --noreplaygain -b N --resample R`: constant bit rate at the input's
+    ///   own rate `R` kHz (lame would otherwise drop the rate at low bit rates, moving the
+    ///   file away from its labels' rate); no ID3 tag is written (none is asked for), and the
+    ///   LAME header holds only the encoder version and settings;
     /// * `oggenc -Q -q Q --serial S`: the serial fixed, the only random field of an Ogg file.
-    pub fn command(&self, wav_path: &Path, out_path: &Path) -> (&'static str, Vec<String>) {
+    pub fn command(
+        &self,
+        wav_path: &Path,
+        out_path: &Path,
+        sample_rate_hz: u32,
+    ) -> (&'static str, Vec<String>) {
         let wav = wav_path.display().to_string();
         let out = out_path.display().to_string();
         match self.kind {
@@ -55,6 +62,8 @@ impl LossyEncoding {
                     "--noreplaygain".into(),
                     "-b".into(),
                     self.quality.to_string(),
+                    "--resample".into(),
+                    format!("{}", f64::from(sample_rate_hz) / 1000.0),
                     wav,
                     out,
                 ],
@@ -86,7 +95,13 @@ pub fn encode_lossy(
     encoding: &LossyEncoding,
     out_path: &Path,
 ) -> Result<(), RoomError> {
-    let (tool, args) = encoding.command(wav_path, out_path);
+    let sample_rate_hz = hound::WavReader::open(wav_path)
+        .map(|r| r.spec().sample_rate)
+        .map_err(|e| RoomError::Encoder {
+            tool: encoding.command(wav_path, out_path, 0).0,
+            reason: format!("cannot read {}: {e}", wav_path.display()),
+        })?;
+    let (tool, args) = encoding.command(wav_path, out_path, sample_rate_hz);
     let output = Command::new(tool).args(&args).output().map_err(|e| {
         if e.kind() == std::io::ErrorKind::NotFound {
             RoomError::EncoderMissing { tool }
@@ -160,7 +175,7 @@ mod tests {
                 serial: 123_456,
             },
         ] {
-            let tool = enc.command(&wav, &wav).0;
+            let tool = enc.command(&wav, &wav, 44_100).0;
             if !tool_available(tool) {
                 println!("SKIPPED: {tool} is not installed on this machine");
                 continue;

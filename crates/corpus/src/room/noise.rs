@@ -94,7 +94,8 @@ fn hum(n: usize, sr: f64, mains_hz: f64, rng: &mut Rng) -> Vec<f64> {
     (0..n)
         .map(|i| {
             let t = i as f64 / sr;
-            let f = mains_hz * (1.0 + 0.001 * (std::f64::consts::TAU * drift_hz * t + drift_phase).sin());
+            let f = mains_hz
+                * (1.0 + 0.001 * (std::f64::consts::TAU * drift_hz * t + drift_phase).sin());
             phase = (phase + std::f64::consts::TAU * f / sr) % std::f64::consts::TAU;
             harmonics
                 .iter()
@@ -152,14 +153,27 @@ mod tests {
             assert!(x.iter().all(|v| v.is_finite()));
         }
         let pink = unit_noise(&NoiseKind::Pink, n, sr, &mut Rng::new(4));
-        let low: f64 = (1..20).map(|k| band_power(&pink, sr, 100.0 + f64::from(k))).sum();
-        let high: f64 = (1..20).map(|k| band_power(&pink, sr, 8_000.0 + f64::from(k))).sum();
+        let low: f64 = (1..20)
+            .map(|k| band_power(&pink, sr, 100.0 + f64::from(k)))
+            .sum();
+        let high: f64 = (1..20)
+            .map(|k| band_power(&pink, sr, 8_000.0 + f64::from(k)))
+            .sum();
         assert!(low > 5.0 * high, "pink: {low} vs {high}");
         let hum = unit_noise(&NoiseKind::Hum { mains_hz: 60 }, n, sr, &mut Rng::new(5));
         assert!(band_power(&hum, sr, 60.0) > 100.0 * band_power(&hum, sr, 400.0));
-        let hiss = unit_noise(&NoiseKind::Hiss { cutoff_hz: 4_000.0 }, n, sr, &mut Rng::new(6));
-        let lo: f64 = (1..20).map(|k| band_power(&hiss, sr, 200.0 + f64::from(k))).sum();
-        let hi: f64 = (1..20).map(|k| band_power(&hiss, sr, 10_000.0 + f64::from(k))).sum();
+        let hiss = unit_noise(
+            &NoiseKind::Hiss { cutoff_hz: 4_000.0 },
+            n,
+            sr,
+            &mut Rng::new(6),
+        );
+        let lo: f64 = (1..20)
+            .map(|k| band_power(&hiss, sr, 200.0 + f64::from(k)))
+            .sum();
+        let hi: f64 = (1..20)
+            .map(|k| band_power(&hiss, sr, 10_000.0 + f64::from(k)))
+            .sum();
         assert!(hi > 10.0 * lo, "hiss: {lo} vs {hi}");
     }
 }

@@ -41,7 +41,9 @@ fn rt60_of_the_response_matches_the_draw() {
             let band: Vec<f64> = ir.iter().map(|x| bp.process(*x)).collect();
             let measured = rt60_schroeder(&band, sr).unwrap();
             let broadband = rt60_schroeder(&ir, sr).unwrap();
-            println!("RT60 {rt} s, seed {seed}: mid band {measured:.3} s, broadband {broadband:.3} s");
+            println!(
+                "RT60 {rt} s, seed {seed}: mid band {measured:.3} s, broadband {broadband:.3} s"
+            );
             assert!(
                 (measured / rt - 1.0).abs() < 0.25,
                 "drawn {rt} s, measured {measured} s"
@@ -102,12 +104,13 @@ fn output_peak_is_the_drawn_peak_and_channels_differ() {
         let out = rec.apply(&input, sr).unwrap();
         assert_eq!(out.len(), usize::from(rec.channels));
         assert!(out.iter().all(|c| c.len() == input.len()));
-        let peak = out
-            .iter()
-            .flatten()
-            .fold(0.0f32, |m, x| m.max(x.abs()));
+        let peak = out.iter().flatten().fold(0.0f32, |m, x| m.max(x.abs()));
         let db = 20.0 * f64::from(peak).log10();
-        assert!((db - rec.peak_dbfs).abs() < 0.1, "{db} vs {}", rec.peak_dbfs);
+        assert!(
+            (db - rec.peak_dbfs).abs() < 0.1,
+            "{db} vs {}",
+            rec.peak_dbfs
+        );
         assert!(peak < 1.0);
         if rec.channels == 2 && rec.rt60_s > 0.0 {
             assert_ne!(out[0], out[1]);
@@ -140,7 +143,11 @@ fn each_noise_lands_at_its_snr() {
             };
             // Output = g · (input + noise); g by projection on the (uncorrelated) input.
             let b = &noisy.apply(&input, sr).unwrap()[0];
-            let dot: f64 = b.iter().zip(&input).map(|(y, x)| f64::from(*y) * f64::from(*x)).sum();
+            let dot: f64 = b
+                .iter()
+                .zip(&input)
+                .map(|(y, x)| f64::from(*y) * f64::from(*x))
+                .sum();
             let g = dot / signal_power(&input);
             let noise: Vec<f32> = b
                 .iter()
@@ -149,7 +156,10 @@ fn each_noise_lands_at_its_snr() {
                 .collect();
             let measured = 10.0 * (signal_power(&input) / signal_power(&noise)).log10();
             println!("{kind:?} at {snr_db} dB: measured {measured:.2} dB");
-            assert!((measured - snr_db).abs() < 2.0, "{kind:?}: {measured} vs {snr_db}");
+            assert!(
+                (measured - snr_db).abs() < 2.0,
+                "{kind:?}: {measured} vs {snr_db}"
+            );
         }
     }
 }
@@ -177,7 +187,10 @@ fn silence_stays_finite_and_empty_stays_empty() {
             snr_db: 20.0,
         });
         let out = rec.apply(&vec![0.0; 5_000], rec.sample_rate_hz).unwrap();
-        assert!(out.iter().flatten().all(|x| x.is_finite() && x.abs() < 1e-3));
+        assert!(out
+            .iter()
+            .flatten()
+            .all(|x| x.is_finite() && x.abs() < 1e-3));
         assert!(out.iter().flatten().any(|x| *x != 0.0), "noise only");
         let empty = rec.apply(&[], rec.sample_rate_hz).unwrap();
         assert_eq!(empty.len(), usize::from(rec.channels));
@@ -195,7 +208,10 @@ fn draws_cover_the_ranges() {
     let mut rng = Rng::new(1);
     let draws: Vec<Recording> = (0..400).map(|_| Recording::draw(&mut rng)).collect();
     let rates: Vec<u32> = draws.iter().map(|r| r.sample_rate_hz).collect();
-    let common = rates.iter().filter(|r| **r == 44_100 || **r == 48_000).count();
+    let common = rates
+        .iter()
+        .filter(|r| **r == 44_100 || **r == 48_000)
+        .count();
     assert!(common > 250, "{common}");
     for r in &draws {
         assert!((0.0..=2.0).contains(&r.rt60_s));
@@ -204,7 +220,9 @@ fn draws_cover_the_ranges() {
         assert!(r.noise.iter().all(|n| (15.0..=60.0).contains(&n.snr_db)));
         if let Some(l) = r.lossy {
             match l.kind {
-                LossyKind::Mp3 => assert!((64..=192).contains(&l.quality) && r.sample_rate_hz <= 48_000),
+                LossyKind::Mp3 => {
+                    assert!((64..=192).contains(&l.quality) && r.sample_rate_hz <= 48_000)
+                }
                 LossyKind::Vorbis => assert!(l.quality <= 6),
             }
         }
