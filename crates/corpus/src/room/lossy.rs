@@ -127,7 +127,8 @@ pub fn encode_lossy(
 }
 
 /// True when `tool` can be started (used by tests to tell a missing encoder apart).
-pub(crate) fn tool_available(tool: &str) -> bool {
+#[cfg(test)]
+fn tool_available(tool: &str) -> bool {
     Command::new(tool)
         .arg("--version")
         .output()
