@@ -33,6 +33,7 @@ pub mod melodies;
 pub mod perform;
 pub mod render;
 pub mod repertoire;
+pub mod room;
 pub mod schedule;
 pub mod score;
 pub mod stats;

@@ -6,6 +6,8 @@ mod portato;
 mod renderer;
 mod sf2_writer;
 mod soundfont;
+mod waveguide;
+mod waveguide_string;
 
 pub use biquad::Biquad;
 pub use bowed::{BowedConfig, BowedStringSynth};
@@ -13,3 +15,4 @@ pub use portato::{is_portato, portato_gain, PORTATO_FALL_S, PORTATO_FLOOR, PORTA
 pub use renderer::{RenderError, RenderSettings, Renderer};
 pub use sf2_writer::tiny_violin_sf2;
 pub use soundfont::SoundFontRenderer;
+pub use waveguide::{WaveguideConfig, WaveguideViolin};
