@@ -171,6 +171,7 @@ pub fn build_corpus(
                 license: item.score.provenance.license.clone(),
                 audio: "audio.wav".into(),
                 timing: None,
+                recording: None,
             };
             Ok((entry, item.timeline, meter))
         })

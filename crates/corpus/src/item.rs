@@ -10,6 +10,7 @@ use crate::error::CorpusError;
 use crate::etude::{generate, EtudeConfig};
 use crate::perform::{bow_strokes, perform, TimingDraw};
 use crate::render::{RenderSettings, Renderer};
+use crate::room::Recording;
 use crate::score::Score;
 use crate::timing::play;
 use net_core::rng::Rng;
@@ -23,14 +24,17 @@ pub enum RendererKind {
     Builtin,
     /// A SoundFont through rustysynth.
     Soundfont,
+    /// The digital-waveguide bowed string.
+    Waveguide,
 }
 
 impl RendererKind {
-    /// "builtin" or "soundfont".
+    /// "builtin", "soundfont" or "waveguide".
     pub fn name(self) -> &'static str {
         match self {
             RendererKind::Builtin => "builtin",
             RendererKind::Soundfont => "soundfont",
+            RendererKind::Waveguide => "waveguide",
         }
     }
 }
@@ -46,8 +50,14 @@ pub struct CorpusItem {
     pub performance: Performance,
     /// Ground-truth motion synthesised from the performance.
     pub motion: Motion,
-    /// Mono audio at `augmentation.sample_rate_hz`.
+    /// Audio at `augmentation.sample_rate_hz`: mono, or the first channel of a stereo
+    /// recording.
     pub audio: Vec<f32>,
+    /// Further channels (the second microphone of a stereo [`Recording`]).
+    pub extra_channels: Vec<Vec<f32>>,
+    /// The recording chain applied (many-violin corpora), including any lossy coding that
+    /// [`crate::layout::write_item`] performs.
+    pub recording: Option<Recording>,
     /// How the audio was augmented.
     pub augmentation: Augmentation,
     /// Which renderer made the audio.
@@ -126,12 +136,16 @@ pub fn make_item(
         strokes,
         tempo_bpm_per_beat,
         timing: None,
+        extra_channels: Vec::new(),
+        recording: None,
     })
 }
 
 /// Makes an item from a written `score` (an étude's or a repertoire excerpt): a human
 /// performance drawn from `seed` ([`perform`]), fingering by the optimal planner, motion,
-/// bow strokes, and audio from `renderer` with a seeded [`Augmentation`] (or none).
+/// bow strokes, and audio from `renderer` through a seeded [`Recording`] (room, stereo,
+/// noise, level, rate, lossy coding) with a tuning offset of ±10 cents, or dry at 22.05 kHz
+/// when `augment` is false.
 pub fn make_score_item(
     score: &Score,
     seed: u64,
@@ -147,25 +161,39 @@ pub fn make_score_item(
     let motion = synthesize(&performance, &SynthConfig::default())
         .map_err(|e| CorpusError::Performance(e.to_string()))?;
     let strokes = bow_strokes(&timeline, &played.on_downbeat, root.fork(6).next_u64());
-    let mut aug_rng = root.fork(3);
-    let augmentation = if augment {
-        Augmentation::draw(&mut aug_rng)
+    let mut rec_rng = root.fork(3);
+    let recording = if augment {
+        Recording::draw(&mut rec_rng)
     } else {
-        Augmentation::none(22_050)
+        Recording::dry(22_050)
+    };
+    let augmentation = Augmentation {
+        tuning_cents: if augment {
+            rec_rng.uniform(-10.0, 10.0)
+        } else {
+            0.0
+        },
+        ..Augmentation::none(recording.sample_rate_hz)
     };
     let settings = RenderSettings {
-        sample_rate_hz: augmentation.sample_rate_hz,
+        sample_rate_hz: recording.sample_rate_hz,
         tuning_cents: augmentation.tuning_cents,
         seed: root.fork(4).next_u64(),
     };
-    let mut audio = renderer.render(&timeline, &settings)?;
-    augmentation.apply(&mut audio, root.fork(5).next_u64());
+    let dry = renderer.render(&timeline, &settings)?;
+    let mut channels = recording
+        .apply(&dry, recording.sample_rate_hz)
+        .map_err(|e| CorpusError::Config(format!("recording chain: {e}")))?
+        .into_iter();
+    let audio = channels.next().unwrap_or_default();
     Ok(CorpusItem {
         score: score.clone(),
         timeline,
         performance,
         motion,
         audio,
+        extra_channels: channels.collect(),
+        recording: Some(recording),
         augmentation,
         renderer: kind,
         strokes,

@@ -2,7 +2,7 @@
 //!
 //! | file | content |
 //! |---|---|
-//! | `audio.wav` | mono 16-bit PCM at the item's sample rate |
+//! | `audio.wav` | 16-bit PCM at the item's sample rate, mono or stereo (`audio.mp3` or `audio.ogg` instead when the recording chain coded it lossily; see [`item_audio`]) |
 //! | `performance.json` | the ground-truth `performance::Performance` |
 //! | `notes.tsv` | `onset_s`, `offset_s`, `midi`, `string` (1 = G … 4 = E, 0 = none), `position`, `finger`, `dynamic` (0..1) separated by tabs, with a header |
 //! | `bowchanges.txt`, `beats.txt`, `downbeats.txt` | one time in seconds per line (beats at the notated level: dotted quarters in 6/8, 9/8, 12/8; one per bar in 3/8) |
@@ -51,11 +51,15 @@ pub fn write_item(root: &Path, index: usize, item: &CorpusItem) -> Result<PathBu
         .tempdir_in(&items)
         .map_err(|e| io_err(&items, e))?;
     let dir = tmp.path();
-    write_wav(
-        &dir.join("audio.wav"),
-        &item.audio,
-        item.augmentation.sample_rate_hz,
-    )?;
+    let mut channels: Vec<&[f32]> = vec![&item.audio];
+    channels.extend(item.extra_channels.iter().map(Vec::as_slice));
+    let wav = dir.join("audio.wav");
+    write_wav(&wav, &channels, item.augmentation.sample_rate_hz)?;
+    if let Some(lossy) = item.recording.as_ref().and_then(|r| r.lossy.as_ref()) {
+        let coded = dir.join(format!("audio.{}", lossy.extension()));
+        crate::room::encode_lossy(&wav, lossy, &coded).map_err(|e| io_err(&coded, e))?;
+        std::fs::remove_file(&wav).map_err(|e| io_err(&wav, e))?;
+    }
     let perf = serde_json::to_string(&item.performance).map_err(|e| io_err(dir, e))?;
     write_text(&dir.join("performance.json"), &perf)?;
     let mut notes = String::from("onset_s\toffset_s\tmidi\tstring\tposition\tfinger\tdynamic\n");
@@ -123,9 +127,19 @@ fn write_text(path: &Path, text: &str) -> Result<(), CorpusError> {
     std::fs::write(path, text).map_err(|e| io_err(path, e))
 }
 
-fn write_wav(path: &Path, audio: &[f32], rate: u32) -> Result<(), CorpusError> {
+/// The audio file of an item folder: `audio.wav`, or `audio.mp3` / `audio.ogg` for an item
+/// that was coded lossily.
+pub fn item_audio(dir: &Path) -> PathBuf {
+    ["audio.mp3", "audio.ogg"]
+        .iter()
+        .map(|f| dir.join(f))
+        .find(|p| p.is_file())
+        .unwrap_or_else(|| dir.join("audio.wav"))
+}
+
+fn write_wav(path: &Path, channels: &[&[f32]], rate: u32) -> Result<(), CorpusError> {
     let spec = hound::WavSpec {
-        channels: 1,
+        channels: channels.len().max(1) as u16,
         sample_rate: rate,
         bits_per_sample: 16,
         sample_format: hound::SampleFormat::Int,
@@ -133,9 +147,13 @@ fn write_wav(path: &Path, audio: &[f32], rate: u32) -> Result<(), CorpusError> {
     let file = std::fs::File::create(path).map_err(|e| io_err(path, e))?;
     let mut w =
         hound::WavWriter::new(std::io::BufWriter::new(file), spec).map_err(|e| io_err(path, e))?;
-    for s in audio {
-        let v = (s.clamp(-1.0, 1.0) * 32767.0).round() as i16;
-        w.write_sample(v).map_err(|e| io_err(path, e))?;
+    let len = channels.iter().map(|c| c.len()).max().unwrap_or(0);
+    for i in 0..len {
+        for c in channels {
+            let s = c.get(i).copied().unwrap_or(0.0);
+            let v = (s.clamp(-1.0, 1.0) * 32767.0).round() as i16;
+            w.write_sample(v).map_err(|e| io_err(path, e))?;
+        }
     }
     w.finalize().map_err(|e| io_err(path, e))?;
     Ok(())

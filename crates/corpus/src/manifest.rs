@@ -108,6 +108,9 @@ pub struct ManifestItem {
     /// How the performance was timed.
     #[serde(default)]
     pub timing: Option<TimingDraw>,
+    /// The recording chain: room, microphones, noise, level, rate, lossy coding.
+    #[serde(default)]
+    pub recording: Option<crate::room::Recording>,
 }
 
 /// The whole manifest.

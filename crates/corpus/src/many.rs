@@ -107,11 +107,15 @@ pub fn build_many(
                 .ok_or_else(|| CorpusError::Config(format!("no violin source {violin}")))?;
             let kind = match spec.kind {
                 SourceKind::Builtin => RendererKind::Builtin,
+                SourceKind::Waveguide => RendererKind::Waveguide,
                 SourceKind::SoundFont { .. } => RendererKind::Soundfont,
             };
             let item =
                 make_score_item(&score, rng.next_u64(), renderer.as_ref(), kind, cfg.augment)?;
-            write_item(root, i, &item)?;
+            let written = write_item(root, i, &item)?;
+            let audio = crate::layout::item_audio(&written)
+                .file_name()
+                .map_or_else(|| "audio.wav".into(), |n| n.to_string_lossy().to_string());
             progress(done.fetch_add(1, Ordering::Relaxed) + 1, count);
             let meter = item.time_signature.to_string();
             let double_stops = score.notes.iter().filter(|n| !n.lower.is_empty()).count();
@@ -131,8 +135,9 @@ pub fn build_many(
                 score: score.id.clone(),
                 source: score.provenance.source.clone(),
                 license: score.provenance.license.clone(),
-                audio: "audio.wav".into(),
+                audio,
                 timing: item.timing,
+                recording: item.recording,
             };
             Ok((entry, item.timeline, meter, double_stops))
         })

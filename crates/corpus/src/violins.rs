@@ -4,6 +4,7 @@
 //! | source | what | licence | split |
 //! |---|---|---|---|
 //! | `builtin` | the additive bowed-string model, parameters drawn per item | ours | train |
+//! | `waveguide` | a digital-waveguide bowed string (the physics of STK's `Bowed`, written anew) | ours | train |
 //! | `fluidr3-violin` | FluidR3 GM program 40 (Debian `fluid-soundfont-gm`) | MIT | train |
 //! | `fluidr3-fiddle` | FluidR3 GM program 110 | MIT | train |
 //! | `fluidr3-strings` | FluidR3 GM program 48, a string section | MIT | train |
@@ -17,7 +18,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use crate::error::CorpusError;
-use crate::render::{BowedConfig, BowedStringSynth, Renderer, SoundFontRenderer};
+use crate::render::{BowedConfig, BowedStringSynth, Renderer, SoundFontRenderer, WaveguideViolin};
 use net_core::rng::Rng;
 
 /// Where Debian installs its SoundFonts.
@@ -28,6 +29,8 @@ pub const SYSTEM_SF2_DIR: &str = "/usr/share/sounds/sf2";
 pub enum SourceKind {
     /// The built-in bowed-string model.
     Builtin,
+    /// The digital-waveguide bowed string.
+    Waveguide,
     /// A SoundFont file (name inside the SoundFont folder) and GM program.
     SoundFont {
         /// File name, e.g. `FluidR3_GM.sf2`.
@@ -53,10 +56,16 @@ pub struct ViolinSpec {
 }
 
 /// Every source, training ones first.
-pub const VIOLINS: [ViolinSpec; 6] = [
+pub const VIOLINS: [ViolinSpec; 7] = [
     ViolinSpec {
         name: "builtin",
         kind: SourceKind::Builtin,
+        license: "violin-skeleton's own code",
+        held_out: false,
+    },
+    ViolinSpec {
+        name: "waveguide",
+        kind: SourceKind::Waveguide,
         license: "violin-skeleton's own code",
         held_out: false,
     },
@@ -141,7 +150,7 @@ impl ViolinBank {
         let mut loaded: Vec<(PathBuf, SoundFontRenderer)> = Vec::new();
         for spec in VIOLINS {
             match spec.kind {
-                SourceKind::Builtin => {
+                SourceKind::Builtin | SourceKind::Waveguide => {
                     fonts.push(None);
                     files.push(PathBuf::new());
                 }
@@ -213,8 +222,12 @@ impl ViolinBank {
     /// A renderer for source `index`; the built-in model's parameters are drawn from `rng`
     /// so that no two items play the same instrument.
     pub fn renderer(&self, index: usize, rng: &mut Rng) -> Option<Box<dyn Renderer + '_>> {
+        let spec = self.specs.get(index)?;
         match self.fonts.get(index)? {
             Some(f) => Some(Box::new(f.clone())),
+            None if spec.kind == SourceKind::Waveguide => {
+                Some(Box::new(WaveguideViolin::default()))
+            }
             None => Some(Box::new(BowedStringSynth {
                 config: BowedConfig {
                     slur_glide_s: rng.uniform(0.015, 0.04),

@@ -152,8 +152,16 @@ fn many_violin_corpus_splits_by_work_and_violin() {
     // Same seed, same bytes.
     let again = tempfile::tempdir().unwrap();
     build_corpus(again.path(), &cfg, &|_, _| {}).unwrap();
-    for it in m.items.iter().take(4) {
-        for f in ["audio.wav", "notes.tsv", "strokes.tsv", "labels.json"] {
+    let lossy = m.items.iter().filter(|i| i.audio != "audio.wav").count();
+    let stereo = m
+        .items
+        .iter()
+        .filter(|i| i.recording.as_ref().is_some_and(|r| r.channels == 2))
+        .count();
+    assert!(lossy > 0 && stereo > 0, "lossy {lossy}, stereo {stereo}");
+    for it in m.items.iter().take(6) {
+        assert!(out.path().join(&it.dir).join(&it.audio).is_file());
+        for f in [it.audio.as_str(), "notes.tsv", "strokes.tsv", "labels.json"] {
             assert_eq!(
                 std::fs::read(out.path().join(&it.dir).join(f)).unwrap(),
                 std::fs::read(again.path().join(&it.dir).join(f)).unwrap(),

@@ -114,7 +114,7 @@ fn frames_of(times: &[f64], frames: usize) -> Vec<usize> {
 
 /// Loads one corpus item folder.
 pub fn load_corpus_item(dir: &Path, name: &str, group: &str) -> Result<Recording> {
-    let mel_db = bowing_mel_of_file(&dir.join("audio.wav"))?;
+    let mel_db = bowing_mel_of_file(&corpus::layout::item_audio(dir))?;
     let frames = mel_db.nrows();
     let change_s = read_times(&dir.join("bowchanges.txt"))?;
     let onset_s = read_note_onsets(&dir.join("notes.tsv"))?;
@@ -145,10 +145,7 @@ pub fn load_corpus(dir: &Path, progress: &(dyn Fn(usize, usize) + Sync)) -> Resu
         .items
         .par_iter()
         .map(|item| {
-            let group = match item.renderer {
-                corpus::item::RendererKind::Builtin => "builtin",
-                corpus::item::RendererKind::Soundfont => "soundfont",
-            };
+            let group = item.renderer.name();
             let r = load_corpus_item(&dir.join(&item.dir), &item.dir, group)?;
             progress(
                 done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1,

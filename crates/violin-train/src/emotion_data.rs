@@ -156,14 +156,11 @@ pub fn load_corpus_with(
         .par_iter()
         .map(|item| {
             let d = dir.join(&item.dir);
-            let group = match item.renderer {
-                corpus::item::RendererKind::Builtin => "builtin",
-                corpus::item::RendererKind::Soundfont => "soundfont",
-            };
+            let group = item.renderer.name();
             let track = cut(ArousalTrack {
                 name: item.dir.clone(),
                 group: group.into(),
-                mel_db: emotion_mel_of_file(&d.join("audio.wav"))?,
+                mel_db: emotion_mel_of_file(&corpus::layout::item_audio(&d))?,
                 first_frame: 0,
                 arousal: match target {
                     CorpusTarget::Proxy => corpus_proxy(&d)?,

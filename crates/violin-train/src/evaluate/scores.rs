@@ -317,16 +317,16 @@ impl EvaluationReport {
             let short = name
                 .replace("held-out ", "ho-")
                 .replace("in-distribution", "in-dist");
-            out.push_str(&format!("{short:>11}"));
+            out.push_str(&format!("{short:>14}"));
         }
         out.push('\n');
         for (label, get, digits) in rows {
             out.push_str(&format!("{label:<24}"));
             for (_, s) in &cols {
                 match (get(s), digits) {
-                    (Some(v), Some(d)) => out.push_str(&format!("{v:>11.d$}")),
-                    (Some(v), None) => out.push_str(&format!("{v:>11.1e}")),
-                    (None, _) => out.push_str(&format!("{:>11}", "—")),
+                    (Some(v), Some(d)) => out.push_str(&format!("{v:>14.d$}")),
+                    (Some(v), None) => out.push_str(&format!("{v:>14.1e}")),
+                    (None, _) => out.push_str(&format!("{:>14}", "—")),
                 }
             }
             out.push('\n');

@@ -29,7 +29,7 @@ pub fn read_manifest(root: &Path) -> Result<Manifest> {
 
 /// Loads one corpus item folder: `audio.wav` + `motion.json`.
 pub fn load_item(dir: &Path) -> Result<Sequence> {
-    let audio_path = dir.join("audio.wav");
+    let audio_path = corpus::layout::item_audio(dir);
     let audio = dsp_mel::load_audio(&audio_path)?;
     let motion = Motion::read(dir.join("motion.json"), MotionFormat::Json)?;
     Ok(Sequence::from_audio_and_motion(
