@@ -13,6 +13,9 @@
 //! 4. written to disk ([`layout`], [`manifest`]) with ground-truth motion from
 //!    `motion-synth`, and summarised ([`stats`]).
 //!
+//! The trackers' tests and benches take their labelled audio from here ([`item::make_item`]
+//! with [`render::BowedStringSynth`]) and score pitch against [`reference::reference_f0`].
+//!
 //! ```
 //! use corpus::item::{make_item, RendererKind};
 //! use corpus::render::BowedStringSynth;
@@ -29,6 +32,7 @@ pub mod item;
 pub mod layout;
 pub mod manifest;
 pub mod melodies;
+pub mod reference;
 pub mod render;
 pub mod score;
 pub mod stats;
