@@ -120,6 +120,8 @@ mod tests {
         assert_eq!(f0[150], Some(0.0));
         let sharp = reference_f0(&timeline, 100.0, 0.01, 200);
         assert!(sharp[70].is_some_and(|hz| (hz - 466.164).abs() < 1e-2));
-        assert!(reference_f0(&timeline, 0.0, 0.0, 3).iter().all(Option::is_none));
+        assert!(reference_f0(&timeline, 0.0, 0.0, 3)
+            .iter()
+            .all(Option::is_none));
     }
 }
