@@ -18,7 +18,9 @@ pitch accuracy and voicing (±50 cents, f0 on the same 256-sample grid), note-on
 for librosa the onsets of `onset_detect`: it has no note segmentation), beat F and downbeat F
 (±70 ms; librosa has no downbeat tracker). Each metric is computed per file and averaged.
 
-Synthetic references are exact (`write_synth`). Corpus references come from each item's
+Synthetic pieces (`write_synth`) are corpus études rendered by the built-in bowed-string
+synthesizer without augmentation; their truth JSON carries the pitch reference and the frames
+to score (`f0_keep`, the same rule as below). Corpus references come from each item's
 `notes.tsv` (pitch = MIDI note shifted by the item's `tuning_cents`; vibrato stays within
 ±25 cents of it), `beats.txt` and `downbeats.txt`. Frames the labels cannot decide are left
 out of the pitch scores: within 30 ms of a note's onset or offset (slur glides last 25 ms;
@@ -235,7 +237,8 @@ def synthetic_mode(args):
         truth = json.loads((d / f"synth_{seed}.json").read_text())
         y, _ = librosa.load(d / f"synth_{seed}.wav", sr=SR)
         label = f"{truth['tempo_bpm']:5.0f} {meter_name(truth['beats_per_bar'], truth['subdivisions']):>4}"
-        rows.append(score_one(f"synth_{seed}", label, ours, y, truth["f0_hz"], None,
+        keep = np.asarray(truth["f0_keep"], dtype=bool) if "f0_keep" in truth else None
+        rows.append(score_one(f"synth_{seed}", label, ours, y, truth["f0_hz"], keep,
                               [n["onset_s"] for n in truth["notes"]], truth["beats_s"], truth["downbeats_s"]))
     print_means(f"mean over {len(rows)} synthetic pieces", rows)
     print("¹ synthetic pieces: every labelled onset is articulated (same as note onset F).")

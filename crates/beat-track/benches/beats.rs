@@ -1,4 +1,5 @@
-//! Onset strength, tempo, beats, metre and downbeats on 180 s of synthetic violin at 22 050 Hz,
+//! Onset strength, tempo, beats, metre and downbeats on 180 s of synthetic violin (a corpus
+//! étude at 100 bpm, the corpus's bowed-string synthesizer) at 22 050 Hz,
 //! stage by stage and as one `BeatTracker::track` call (without and with notes).
 //!
 //! `cargo bench -p beat-track --bench beats`
@@ -8,19 +9,27 @@ use beat_track::{
     estimate_meter, estimate_tempo, track_beats, BarEvidence, BeatConfig, BeatTracker, OnsetConfig,
     OnsetStrength,
 };
+use corpus::etude::EtudeConfig;
+use corpus::item::{make_item, RendererKind};
+use corpus::render::BowedStringSynth;
 use criterion::{criterion_group, criterion_main, Criterion};
-use pitch_track::synth::{render, SynthConfig};
 use pitch_track::{segment_notes, NoteConfig, PitchConfig, PitchTracker};
 
 fn bench(c: &mut Criterion) {
-    let piece = render(&SynthConfig {
-        seed: 3,
-        tempo_bpm: 100.0,
-        bars: 75,
-        ..SynthConfig::default()
-    })
-    .expect("synth renders");
-    let samples = &piece.samples[..(180 * 22_050).min(piece.samples.len())];
+    let etude = EtudeConfig {
+        target_s: 180.0,
+        tempo_bpm: (100.0, 100.0),
+        ..EtudeConfig::default()
+    };
+    let item = make_item(
+        3,
+        &etude,
+        &BowedStringSynth::default(),
+        RendererKind::Builtin,
+        false,
+    )
+    .expect("corpus item renders");
+    let samples = &item.audio[..(180 * 22_050).min(item.audio.len())];
     let cfg = BeatConfig::default();
     let tracker = BeatTracker::new(cfg.clone()).expect("valid config");
     let track = PitchTracker::new(PitchConfig::default())

@@ -1,52 +1,74 @@
-//! Writes labelled synthetic violin pieces for `scripts/compare_analysis_librosa.py`:
-//! `DIR/synth_SEED.wav` (16-bit, 22 050 Hz) and `DIR/synth_SEED.json` with the ground truth
-//! (notes, beats, downbeats, tempo, metre, and the reference f0 on a 256-sample hop grid,
-//! 0 = unvoiced).
+//! Writes labelled synthetic violin pieces for `scripts/compare_analysis_librosa.py`: corpus
+//! études (`corpus::item::make_item`, seeds 1..=COUNT) rendered by the corpus's bowed-string
+//! synthesizer without augmentation, as `DIR/synth_SEED.wav` (16-bit, 22 050 Hz) and
+//! `DIR/synth_SEED.json` with the ground truth (notes, beats, downbeats, tempo, metre, and
+//! the reference f0 on a 256-sample hop grid with the frames the labels decide:
+//! `corpus::reference::reference_f0`; 0 = unvoiced, `f0_keep` false = not scored).
 //!
 //! ```sh
 //! cargo run --release -p beat-track --example write_synth -- DIR [COUNT] [SECONDS] [LONG_SECONDS]
 //! ```
-//! writes COUNT (default 8) pieces of about SECONDS (default 30) from `SynthConfig::varied`
-//! (seeds 1..=COUNT), and, when LONG_SECONDS is given, `DIR/synth_long.wav` of that length
-//! (4/4 at 100 bpm, for timing).
+//! writes COUNT (default 8) pieces of about SECONDS (default 30), and, when LONG_SECONDS is
+//! given, `DIR/synth_long.wav` of that length (an étude at 100 bpm, for timing).
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use std::path::Path;
 
-use pitch_track::synth::{render, SynthConfig, SynthPiece};
+use corpus::etude::EtudeConfig;
+use corpus::item::{make_item, CorpusItem, RendererKind};
+use corpus::reference::reference_f0;
+use corpus::render::BowedStringSynth;
 
 const HOP: usize = 256;
+const SR: u32 = 22_050;
 
-fn write_wav(path: &Path, piece: &SynthPiece) {
+fn item(seed: u64, etude: &EtudeConfig) -> CorpusItem {
+    let item = make_item(
+        seed,
+        etude,
+        &BowedStringSynth::default(),
+        RendererKind::Builtin,
+        false,
+    )
+    .expect("corpus item renders");
+    assert_eq!(item.augmentation.sample_rate_hz, SR);
+    item
+}
+
+fn write_wav(path: &Path, samples: &[f32]) {
     let spec = hound::WavSpec {
         channels: 1,
-        sample_rate: piece.sample_rate_hz,
+        sample_rate: SR,
         bits_per_sample: 16,
         sample_format: hound::SampleFormat::Int,
     };
     let mut w = hound::WavWriter::create(path, spec).expect("create wav");
-    for &s in &piece.samples {
+    for &s in samples {
         w.write_sample((s.clamp(-1.0, 1.0) * 32_767.0) as i16)
             .expect("write sample");
     }
     w.finalize().expect("finish wav");
 }
 
-fn write_truth(path: &Path, piece: &SynthPiece) {
-    let hop_s = HOP as f64 / f64::from(piece.sample_rate_hz);
-    let frames = 1 + piece.samples.len() / HOP;
+fn write_truth(path: &Path, item: &CorpusItem) {
+    let hop_s = HOP as f64 / f64::from(SR);
+    let frames = 1 + item.audio.len() / HOP;
+    let tl = &item.timeline;
+    let f0 = reference_f0(tl, item.augmentation.tuning_cents, hop_s, frames);
     let truth = serde_json::json!({
-        "duration_s": piece.duration_s(),
-        "tempo_bpm": piece.tempo_bpm,
-        "beats_per_bar": piece.time_signature.beats_per_bar,
-        "subdivisions": piece.time_signature.subdivisions,
-        "notes": piece.notes.iter().map(|n| serde_json::json!({
-            "onset_s": n.onset_s, "offset_s": n.offset_s, "midi": n.midi, "slurred": n.slurred
+        "duration_s": item.audio.len() as f64 / f64::from(SR),
+        "tempo_bpm": tl.tempo_bpm,
+        "beats_per_bar": item.etude.meter.beats_per_bar(),
+        "subdivisions": item.etude.meter.beat_division(),
+        "notes": tl.notes.iter().enumerate().map(|(i, n)| serde_json::json!({
+            "onset_s": n.note.onset_s, "offset_s": n.note.offset_s, "midi": n.note.midi,
+            "slurred": i > 0 && !n.bow_change
         })).collect::<Vec<_>>(),
-        "beats_s": piece.beats_s,
-        "downbeats_s": piece.downbeats_s,
+        "beats_s": tl.beats_s,
+        "downbeats_s": tl.downbeats_s,
         "f0_hop_s": hop_s,
-        "f0_hz": piece.reference_f0(hop_s, frames),
+        "f0_hz": f0.iter().map(|f| f.unwrap_or(0.0)).collect::<Vec<_>>(),
+        "f0_keep": f0.iter().map(Option::is_some).collect::<Vec<_>>(),
     });
     std::fs::write(path, serde_json::to_string(&truth).expect("json")).expect("write json");
 }
@@ -66,36 +88,31 @@ fn main() {
     let dir = Path::new(dir);
     std::fs::create_dir_all(dir).expect("create output folder");
     for seed in 1..=count {
-        let piece = render(&SynthConfig::varied(seed, seconds)).expect("render");
-        write_wav(&dir.join(format!("synth_{seed}.wav")), &piece);
-        write_truth(&dir.join(format!("synth_{seed}.json")), &piece);
+        let etude = EtudeConfig {
+            target_s: seconds,
+            ..EtudeConfig::default()
+        };
+        let item = item(seed, &etude);
+        write_wav(&dir.join(format!("synth_{seed}.wav")), &item.audio);
+        write_truth(&dir.join(format!("synth_{seed}.json")), &item);
         eprintln!(
-            "synth_{seed}: {:.1} s, {:.0} bpm, {}/{}, {} notes",
-            piece.duration_s(),
-            piece.tempo_bpm,
-            piece.time_signature.beats_per_bar,
-            if piece.time_signature.subdivisions == 3 {
-                8
-            } else {
-                4
-            },
-            piece.notes.len()
+            "synth_{seed}: {:.1} s, {:.0} bpm, {}, {} notes",
+            item.audio.len() as f64 / f64::from(SR),
+            item.timeline.tempo_bpm,
+            item.etude.meter.name(),
+            item.timeline.notes.len()
         );
     }
     if let Some(long) = args.get(3) {
         let long: f64 = long.parse().expect("LONG_SECONDS is a number");
-        let bars = (long / 2.4).ceil() as usize; // 4/4 at 100 bpm: 2.4 s per bar
-        let mut piece = render(&SynthConfig {
-            seed: 3,
-            tempo_bpm: 100.0,
-            bars,
-            ..SynthConfig::default()
-        })
-        .expect("render");
-        piece
-            .samples
-            .truncate((long * f64::from(piece.sample_rate_hz)) as usize);
-        write_wav(&dir.join("synth_long.wav"), &piece);
-        eprintln!("synth_long: {:.1} s", piece.duration_s());
+        let etude = EtudeConfig {
+            target_s: long,
+            tempo_bpm: (100.0, 100.0),
+            ..EtudeConfig::default()
+        };
+        let mut audio = item(3, &etude).audio;
+        audio.truncate((long * f64::from(SR)) as usize);
+        write_wav(&dir.join("synth_long.wav"), &audio);
+        eprintln!("synth_long: {:.1} s", audio.len() as f64 / f64::from(SR));
     }
 }

@@ -1,13 +1,59 @@
-//! Beat and downbeat accuracy on the synthetic violin, and behaviour on silence, short and
-//! damaged audio.
+//! Beat and downbeat accuracy on synthetic violin — corpus études rendered by the corpus's
+//! bowed-string synthesizer — and behaviour on silence, short and damaged audio.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use beat_track::eval::{beat_prf, BEAT_TOLERANCE_S};
 use beat_track::{
     estimate_tempo, BeatConfig, BeatError, BeatTracker, OnsetConfig, OnsetStrength, TempoConfig,
 };
-use pitch_track::synth::{render, SynthConfig};
+use corpus::etude::EtudeConfig;
+use corpus::item::{make_item, CorpusItem, RendererKind};
+use corpus::render::{BowedStringSynth, RenderSettings, Renderer};
+use performance::Timeline;
 use pitch_track::{segment_notes, NoteConfig, PitchConfig, PitchTracker};
+
+const SR: u32 = 22_050;
+
+/// Corpus item `seed`: an étude of about `seconds` at a tempo drawn from `tempo_bpm`, built-in
+/// renderer, no augmentation (22 050 Hz).
+fn item_at(seed: u64, seconds: f64, tempo_bpm: (f64, f64)) -> CorpusItem {
+    let cfg = EtudeConfig {
+        target_s: seconds,
+        tempo_bpm,
+        ..EtudeConfig::default()
+    };
+    make_item(
+        seed,
+        &cfg,
+        &BowedStringSynth::default(),
+        RendererKind::Builtin,
+        false,
+    )
+    .unwrap()
+}
+
+/// Corpus item `seed` at the corpus's tempi (50–170 bpm, any metre).
+fn item(seed: u64, seconds: f64) -> CorpusItem {
+    item_at(seed, seconds, EtudeConfig::default().tempo_bpm)
+}
+
+/// `timeline` with every time moved by `t ↦ t + depth · P/2π · sin(2π t / P)`: the local
+/// tempo swings by ±`depth` once every `period_s`, on top of the corpus's own rubato.
+fn warped(timeline: &Timeline, depth: f64, period_s: f64) -> Timeline {
+    let w = |t: f64| {
+        t + depth * period_s / std::f64::consts::TAU * (std::f64::consts::TAU * t / period_s).sin()
+    };
+    let mut out = timeline.clone();
+    for n in &mut out.notes {
+        n.note.onset_s = w(n.note.onset_s);
+        n.note.offset_s = w(n.note.offset_s);
+    }
+    for t in out.beats_s.iter_mut().chain(out.downbeats_s.iter_mut()) {
+        *t = w(*t);
+    }
+    out.duration_s = w(out.duration_s);
+    out
+}
 
 #[test]
 fn varied_pieces_meet_the_beat_and_downbeat_goals() {
@@ -15,46 +61,42 @@ fn varied_pieces_meet_the_beat_and_downbeat_goals() {
     let pitch = PitchTracker::new(PitchConfig::default()).unwrap();
     let (mut beat_sum, mut down_sum, mut down_plain_sum, mut n) = (0.0, 0.0, 0.0, 0.0);
     for seed in 1..=8 {
-        let piece = render(&SynthConfig::varied(seed, 20.0)).unwrap();
-        let track = pitch.track(&piece.samples).unwrap();
-        let notes = segment_notes(
-            &track,
-            &piece.samples,
-            piece.sample_rate_hz,
-            &NoteConfig::default(),
-        )
-        .unwrap();
+        let item = item(seed, 20.0);
+        let samples = &item.audio;
+        let truth = &item.timeline;
+        let track = pitch.track(samples).unwrap();
+        let notes = segment_notes(&track, samples, SR, &NoteConfig::default()).unwrap();
         // The strided tempogram mean gives librosa's every-window tempo.
         let env = OnsetStrength::new(OnsetConfig::default())
             .unwrap()
-            .compute(&piece.samples)
+            .compute(samples)
             .unwrap();
         let tempo = |frame_stride| {
             let cfg = TempoConfig {
                 frame_stride,
                 ..TempoConfig::default()
             };
-            estimate_tempo(&env.mean, piece.sample_rate_hz, 512, &cfg)
+            estimate_tempo(&env.mean, SR, 512, &cfg)
         };
         assert_eq!(
             tempo(1),
             tempo(TempoConfig::default().frame_stride),
             "seed {seed}"
         );
-        let with_notes = tracker.track(&piece.samples, Some(&notes)).unwrap();
-        let plain = tracker.track(&piece.samples, None).unwrap();
-        let beat = beat_prf(&piece.beats_s, &with_notes.beats_s, BEAT_TOLERANCE_S).f_measure;
+        let with_notes = tracker.track(samples, Some(&notes)).unwrap();
+        let plain = tracker.track(samples, None).unwrap();
+        let beat = beat_prf(&truth.beats_s, &with_notes.beats_s, BEAT_TOLERANCE_S).f_measure;
         let down = beat_prf(
-            &piece.downbeats_s,
+            &truth.downbeats_s,
             &with_notes.downbeats_s,
             BEAT_TOLERANCE_S,
         )
         .f_measure;
         let down_plain =
-            beat_prf(&piece.downbeats_s, &plain.downbeats_s, BEAT_TOLERANCE_S).f_measure;
+            beat_prf(&truth.downbeats_s, &plain.downbeats_s, BEAT_TOLERANCE_S).f_measure;
         println!(
-            "seed {seed}: truth {:.0} bpm {}/{} → {:.1} bpm {}/{}: beat F {beat:.3}, downbeat F {down:.3} (no notes {down_plain:.3})",
-            piece.tempo_bpm, piece.time_signature.beats_per_bar, piece.time_signature.subdivisions,
+            "seed {seed}: truth {:.0} bpm {} → {:.1} bpm {}/{}: beat F {beat:.3}, downbeat F {down:.3} (no notes {down_plain:.3})",
+            truth.tempo_bpm, item.etude.meter.name(),
             with_notes.tempo_bpm, with_notes.meter.beats_per_bar, with_notes.meter.subdivisions
         );
         beat_sum += beat;
@@ -111,28 +153,26 @@ fn bad_input_is_a_typed_error() {
 
 #[test]
 fn rubato_is_followed() {
-    // ±12 % tempo swing: the DP follows beat by beat.
-    let piece = render(&SynthConfig {
-        seed: 11,
-        rubato: 0.12,
-        tempo_bpm: 100.0,
-        bars: 12,
-        ..SynthConfig::default()
-    })
-    .unwrap();
+    // ±12 % tempo swing every 16 beats at 100 bpm: the DP follows beat by beat.
+    let item = item_at(11, 29.0, (100.0, 100.0));
+    let timeline = warped(&item.timeline, 0.12, 16.0 * 0.6);
+    let samples = BowedStringSynth::default()
+        .render(&timeline, &RenderSettings::default())
+        .unwrap();
     let a = BeatTracker::new(BeatConfig::default())
         .unwrap()
-        .track(&piece.samples, None)
+        .track(&samples, None)
         .unwrap();
-    let f = beat_prf(&piece.beats_s, &a.beats_s, BEAT_TOLERANCE_S).f_measure;
+    let f = beat_prf(&timeline.beats_s, &a.beats_s, BEAT_TOLERANCE_S).f_measure;
+    println!("{}: beat F {f:.3}", item.etude.meter.name());
     assert!(f >= 0.85, "beat F {f}");
 }
 
 #[test]
 fn the_chosen_level_is_the_best_scoring_candidate() {
-    let piece = render(&SynthConfig::varied(3, 20.0)).unwrap();
+    let samples = item(3, 20.0).audio;
     let tracker = BeatTracker::new(BeatConfig::default()).unwrap();
-    let candidates = tracker.level_candidates(&piece.samples, None).unwrap();
+    let candidates = tracker.level_candidates(&samples, None).unwrap();
     assert!(candidates.len() >= 2, "{} candidates", candidates.len());
     assert!(candidates.len() <= BeatConfig::default().level.candidates);
     let best = candidates
@@ -143,7 +183,7 @@ fn the_chosen_level_is_the_best_scoring_candidate() {
         assert!((c.score - c.features.score(&BeatConfig::default().level.weights)).abs() < 1e-12);
         assert!(c.beats_s.windows(2).all(|w| w[1] > w[0]));
     }
-    let a = tracker.track(&piece.samples, None).unwrap();
+    let a = tracker.track(&samples, None).unwrap();
     // The metre step may keep every beat, or every second/third for a finer reading.
     let ratio = best.tempo_bpm / a.tempo_bpm;
     assert!(
@@ -161,27 +201,20 @@ fn the_chosen_level_is_the_best_scoring_candidate() {
         ..BeatConfig::default()
     })
     .unwrap();
-    assert!(librosa
-        .level_candidates(&piece.samples, None)
-        .unwrap()
-        .is_empty());
-    assert!(!librosa
-        .track(&piece.samples, None)
-        .unwrap()
-        .beats_s
-        .is_empty());
+    assert!(librosa.level_candidates(&samples, None).unwrap().is_empty());
+    assert!(!librosa.track(&samples, None).unwrap().beats_s.is_empty());
 }
 
 #[test]
 fn beats_are_reported_latency_earlier() {
-    let piece = render(&SynthConfig::varied(5, 15.0)).unwrap();
+    let samples = item(5, 15.0).audio;
     let at = |latency_s| {
         BeatTracker::new(BeatConfig {
             latency_s,
             ..BeatConfig::default()
         })
         .unwrap()
-        .level_candidates(&piece.samples, None)
+        .level_candidates(&samples, None)
         .unwrap()
     };
     let (none, some) = (at(0.0), at(0.04));
@@ -204,30 +237,34 @@ fn beats_are_reported_latency_earlier() {
 
 #[test]
 fn the_same_input_gives_the_same_beats() {
-    let piece = render(&SynthConfig::varied(7, 15.0)).unwrap();
+    let samples = item(7, 15.0).audio;
     let tracker = BeatTracker::new(BeatConfig::default()).unwrap();
-    let a = tracker.track(&piece.samples, None).unwrap();
-    let b = tracker.track(&piece.samples, None).unwrap();
+    let a = tracker.track(&samples, None).unwrap();
+    let b = tracker.track(&samples, None).unwrap();
     assert_eq!(a, b);
 }
 
 #[test]
 fn bow_changes_on_the_beats_cover_the_labelled_level_only() {
-    let piece = render(&SynthConfig::varied(4, 20.0)).unwrap();
+    let item = item(4, 20.0);
+    let (samples, truth) = (&item.audio, &item.timeline);
     let tracker = BeatTracker::new(BeatConfig::default()).unwrap();
     let evidence = beat_track::BarEvidence {
         notes: None,
-        bow_changes_s: Some(&piece.beats_s),
+        bow_changes_s: Some(&truth.beats_s),
     };
-    let with_bows = tracker
-        .level_candidates_with(&piece.samples, evidence)
-        .unwrap();
+    let with_bows = tracker.level_candidates_with(samples, evidence).unwrap();
     let at = |ratio: f64| {
         with_bows
             .iter()
-            .find(|c| (c.tempo_bpm / piece.tempo_bpm / ratio - 1.0).abs() < 0.05)
+            .find(|c| (c.tempo_bpm / truth.tempo_bpm / ratio - 1.0).abs() < 0.05)
     };
     let labelled = at(1.0).expect("a candidate at the labelled tempo");
+    println!(
+        "bow coverage at the labelled tempo {:.3}, at double {:?}",
+        labelled.features.bow_coverage,
+        at(2.0).map(|c| c.features.bow_coverage)
+    );
     assert!(
         labelled.features.bow_coverage >= 0.9,
         "{:?}",
@@ -237,25 +274,20 @@ fn bow_changes_on_the_beats_cover_the_labelled_level_only() {
         assert!(double.features.bow_coverage <= 0.6, "{:?}", double.features);
     }
     // Without bow changes the detected onsets stand in for them.
-    for c in tracker.level_candidates(&piece.samples, None).unwrap() {
+    for c in tracker.level_candidates(samples, None).unwrap() {
         assert_eq!(c.features.bow_coverage, c.features.onset_coverage);
     }
 }
 
 #[test]
 fn no_beats_in_the_silence_around_the_music() {
-    let piece = render(&SynthConfig {
-        tempo_bpm: 100.0,
-        bars: 6,
-        ..SynthConfig::default()
-    })
-    .unwrap();
-    let pad = 8 * piece.sample_rate_hz as usize;
+    let item = item_at(6, 14.0, (100.0, 100.0));
+    let pad = 8 * SR as usize;
     let mut samples = vec![0.0f32; pad];
-    samples.extend_from_slice(&piece.samples);
+    samples.extend_from_slice(&item.audio);
     samples.extend(std::iter::repeat_n(0.0f32, pad));
-    let offset_s = pad as f64 / f64::from(piece.sample_rate_hz);
-    let music_end_s = offset_s + piece.samples.len() as f64 / f64::from(piece.sample_rate_hz);
+    let offset_s = pad as f64 / f64::from(SR);
+    let music_end_s = offset_s + item.audio.len() as f64 / f64::from(SR);
     let a = BeatTracker::new(BeatConfig::default())
         .unwrap()
         .track(&samples, None)
@@ -268,8 +300,9 @@ fn no_beats_in_the_silence_around_the_music() {
         "music {offset_s:.2}–{music_end_s:.2} s, beats {:?}",
         a.beats_s
     );
-    let shifted: Vec<f64> = piece.beats_s.iter().map(|b| b + offset_s).collect();
+    let shifted: Vec<f64> = item.timeline.beats_s.iter().map(|b| b + offset_s).collect();
     let f = beat_prf(&shifted, &a.beats_s, BEAT_TOLERANCE_S).f_measure;
+    println!("{}: beat F {f:.3}", item.etude.meter.name());
     assert!(f >= 0.8, "beat F {f}");
 }
 

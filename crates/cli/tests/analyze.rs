@@ -1,12 +1,15 @@
-//! `violin-skeleton analyze` end to end: the analysis.json schema on synthetic violin, short
-//! and silent audio, bad inputs.
+//! `violin-skeleton analyze` end to end: the analysis.json schema on synthetic violin (a
+//! corpus étude rendered by the corpus's bowed-string synthesizer), short and silent audio,
+//! bad inputs.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use std::path::Path;
 use std::process::Command;
 
+use corpus::etude::EtudeConfig;
+use corpus::item::{make_item, RendererKind};
+use corpus::render::BowedStringSynth;
 use serde_json::Value;
-use violin_skeleton::pitch_track::synth::{render, SynthConfig};
 
 fn cli() -> Command {
     Command::new(env!("CARGO_BIN_EXE_violin-skeleton"))
@@ -40,14 +43,22 @@ fn analyze(wav: &Path, out: &Path, extra: &[&str]) -> std::process::Output {
 #[test]
 fn synthetic_violin_gives_the_schema() {
     let dir = tempfile::tempdir().unwrap();
-    let piece = render(&SynthConfig {
-        bars: 6,
-        tempo_bpm: 110.0,
-        ..SynthConfig::default()
-    })
+    let etude = EtudeConfig {
+        target_s: 14.0,
+        tempo_bpm: (110.0, 110.0),
+        ..EtudeConfig::default()
+    };
+    let item = make_item(
+        6,
+        &etude,
+        &BowedStringSynth::default(),
+        RendererKind::Builtin,
+        false,
+    )
     .unwrap();
+    let duration_s = item.audio.len() as f64 / 22_050.0;
     let wav = dir.path().join("violin.wav");
-    write_wav(&wav, &piece.samples, piece.sample_rate_hz);
+    write_wav(&wav, &item.audio, 22_050);
     let out = dir.path().join("analysis.json");
     let st = analyze(&wav, &out, &[]);
     assert!(
@@ -58,17 +69,18 @@ fn synthetic_violin_gives_the_schema() {
     let stderr = String::from_utf8_lossy(&st.stderr);
     assert!(stderr.contains("timing:"), "{stderr}");
     let a: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
-    assert!((a["duration_s"].as_f64().unwrap() - piece.duration_s()).abs() < 0.01);
+    assert!((a["duration_s"].as_f64().unwrap() - duration_s).abs() < 0.01);
     assert_eq!(a["sample_rate"], 22_050);
     let hz = a["f0"]["hz"].as_array().unwrap();
     assert_eq!(hz.len(), a["f0"]["voiced_prob"].as_array().unwrap().len());
     assert!(hz.iter().all(|v| v.as_f64().unwrap() >= 0.0));
-    assert!(hz.iter().any(|v| v.as_f64().unwrap() == 0.0)); // the silent lead-in
+    assert!(hz.iter().any(|v| v.as_f64().unwrap() == 0.0)); // the silent tail
     let notes = a["notes"].as_array().unwrap();
     assert!(
-        notes.len() >= piece.notes.len() * 8 / 10,
-        "{} notes",
-        notes.len()
+        notes.len() >= item.timeline.notes.len() * 8 / 10,
+        "{} notes of {}",
+        notes.len(),
+        item.timeline.notes.len()
     );
     for n in notes {
         let string = n["string"].as_u64().unwrap();
@@ -79,6 +91,15 @@ fn synthetic_violin_gives_the_schema() {
     let beats = a["beats_s"].as_array().unwrap();
     assert!(beats.len() >= 20, "{} beats", beats.len());
     assert!(!a["downbeats_s"].as_array().unwrap().is_empty());
+    println!(
+        "{} notes of {}, {} beats of {}, {} bpm ({} at 110 bpm)",
+        notes.len(),
+        item.timeline.notes.len(),
+        beats.len(),
+        item.timeline.beats_s.len(),
+        a["tempo_bpm"],
+        item.etude.meter.name()
+    );
     assert!((a["tempo_bpm"].as_f64().unwrap() - 110.0).abs() < 8.0);
 
     let out30 = dir.path().join("a30.json");

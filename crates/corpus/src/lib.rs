@@ -13,6 +13,9 @@
 //! 4. written to disk ([`layout`], [`manifest`]) with ground-truth motion from
 //!    `motion-synth`, and summarised ([`stats`]).
 //!
+//! The trackers' tests and benches take their labelled audio from here ([`item::make_item`]
+//! with [`render::BowedStringSynth`]) and score pitch against [`reference::reference_f0`].
+//!
 //! ```
 //! use corpus::item::{make_item, RendererKind};
 //! use corpus::render::BowedStringSynth;
@@ -31,6 +34,7 @@ pub mod manifest;
 mod many;
 pub mod melodies;
 pub mod perform;
+pub mod reference;
 pub mod render;
 pub mod repertoire;
 pub mod room;

@@ -1,21 +1,30 @@
-//! pYIN and note segmentation on 180 s of synthetic violin at 22 050 Hz, hop 256.
+//! pYIN and note segmentation on 180 s of synthetic violin (a corpus étude at 100 bpm, the
+//! corpus's bowed-string synthesizer) at 22 050 Hz, hop 256.
 //!
 //! `cargo bench -p pitch-track --bench pitch`
 #![allow(clippy::unwrap_used, clippy::expect_used, missing_docs)]
 
+use corpus::etude::EtudeConfig;
+use corpus::item::{make_item, RendererKind};
+use corpus::render::BowedStringSynth;
 use criterion::{criterion_group, criterion_main, Criterion};
-use pitch_track::synth::{render, SynthConfig};
 use pitch_track::{segment_notes, NoteConfig, PitchConfig, PitchTracker};
 
 fn bench(c: &mut Criterion) {
-    let piece = render(&SynthConfig {
-        seed: 3,
-        tempo_bpm: 100.0,
-        bars: 75, // 75 bars of 4/4 at 100 bpm = 180 s
-        ..SynthConfig::default()
-    })
-    .expect("synth renders");
-    let samples = &piece.samples[..(180 * 22_050).min(piece.samples.len())];
+    let etude = EtudeConfig {
+        target_s: 180.0,
+        tempo_bpm: (100.0, 100.0),
+        ..EtudeConfig::default()
+    };
+    let item = make_item(
+        3,
+        &etude,
+        &BowedStringSynth::default(),
+        RendererKind::Builtin,
+        false,
+    )
+    .expect("corpus item renders");
+    let samples = &item.audio[..(180 * 22_050).min(item.audio.len())];
     let mut group = c.benchmark_group("pitch_180s");
     group.sample_size(10);
     for resolution in [0.2, 0.1] {

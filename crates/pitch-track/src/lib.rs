@@ -13,17 +13,25 @@
 //!   constant pitch, robust to vibrato and slurred glides → [`Note`]s.
 //! * [`eval`] — mir_eval-compatible scores: raw pitch accuracy, voicing recall and false
 //!   alarm, note-onset precision/recall/F.
-//! * [`synth`] — a seeded, labelled synthetic violin (vibrato, bow-change noise, slurs,
-//!   repeated notes, rests, metre and accents) for tests, benches and evaluation.
+//!
+//! Labelled test audio comes from the `corpus` crate's renderers (a dev-dependency: the
+//! tests, benches and comparison scripts use it; the library never does).
 //!
 //! ```
 //! use pitch_track::{segment_notes, NoteConfig, PitchConfig, PitchTracker};
-//! use pitch_track::synth::{render, SynthConfig};
-//! let piece = render(&SynthConfig { bars: 2, ..SynthConfig::default() })?;
+//! // One second of A4 (with two harmonics) at 22 050 Hz.
+//! let sr = 22_050;
+//! let samples: Vec<f32> = (0..sr)
+//!     .map(|i| {
+//!         let phase = std::f32::consts::TAU * 440.0 * i as f32 / sr as f32;
+//!         0.5 * phase.sin() + 0.2 * (2.0 * phase).sin() + 0.1 * (3.0 * phase).sin()
+//!     })
+//!     .collect();
 //! let tracker = PitchTracker::new(PitchConfig::default())?;
-//! let track = tracker.track(&piece.samples)?;
-//! let notes = segment_notes(&track, &piece.samples, piece.sample_rate_hz, &NoteConfig::default())?;
-//! assert!(!notes.is_empty());
+//! let track = tracker.track(&samples)?;
+//! let notes = segment_notes(&track, &samples, sr as u32, &NoteConfig::default())?;
+//! assert_eq!(notes.len(), 1);
+//! assert_eq!(notes[0].midi, 69);
 //! # Ok::<(), pitch_track::PitchError>(())
 //! ```
 
@@ -39,7 +47,6 @@ mod track;
 mod yin;
 
 pub mod eval;
-pub mod synth;
 
 pub use config::PitchConfig;
 pub use error::{PitchError, Result};

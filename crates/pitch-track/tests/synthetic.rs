@@ -1,45 +1,66 @@
-//! Accuracy on the synthetic violin: raw pitch accuracy, note onsets, vibrato, repeated
-//! notes, glides, silence and bad input.
+//! Accuracy on synthetic violin — corpus études rendered by the corpus's bowed-string
+//! synthesizer — raw pitch accuracy and note onsets; vibrato, repeated notes, glides, silence
+//! and bad input on generated tones.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use pitch_track::eval::{melody_scores, onset_prf};
-use pitch_track::synth::{render, SynthConfig, SynthPiece};
+use corpus::etude::EtudeConfig;
+use corpus::item::{make_item, CorpusItem, RendererKind};
+use corpus::reference::reference_f0;
+use corpus::render::BowedStringSynth;
+use pitch_track::eval::{melody_scores, onset_prf, MelodyScores};
 use pitch_track::{
     segment_notes, Note, NoteConfig, PitchConfig, PitchError, PitchTrack, PitchTracker,
 };
 
-fn analyse(piece: &SynthPiece) -> (PitchTrack, Vec<Note>) {
-    let tracker = PitchTracker::new(PitchConfig::default()).unwrap();
-    let track = tracker.track(&piece.samples).unwrap();
-    let notes = segment_notes(
-        &track,
-        &piece.samples,
-        piece.sample_rate_hz,
-        &NoteConfig::default(),
+/// Corpus item `seed` (an étude of about `seconds`), built-in renderer, no augmentation
+/// (22 050 Hz, no tuning offset).
+fn item(seed: u64, seconds: f64) -> CorpusItem {
+    let cfg = EtudeConfig {
+        target_s: seconds,
+        ..EtudeConfig::default()
+    };
+    make_item(
+        seed,
+        &cfg,
+        &BowedStringSynth::default(),
+        RendererKind::Builtin,
+        false,
     )
-    .unwrap();
+    .unwrap()
+}
+
+fn analyse(samples: &[f32]) -> (PitchTrack, Vec<Note>) {
+    let tracker = PitchTracker::new(PitchConfig::default()).unwrap();
+    let track = tracker.track(samples).unwrap();
+    let notes = segment_notes(&track, samples, 22_050, &NoteConfig::default()).unwrap();
     (track, notes)
+}
+
+/// mir_eval melody scores of `f0_hz` (NaN = unvoiced) on the `hop_s` grid against the
+/// item's labelled notes, on the frames the labels decide.
+fn melody_against(item: &CorpusItem, f0_hz: &[f32], hop_s: f64) -> MelodyScores {
+    let reference = reference_f0(&item.timeline, 0.0, hop_s, f0_hz.len());
+    let (r, e): (Vec<f32>, Vec<f32>) = reference
+        .iter()
+        .zip(f0_hz)
+        .filter_map(|(r, e)| r.map(|r| (r, if e.is_finite() { *e } else { 0.0 })))
+        .unzip();
+    melody_scores(&r, &e, 50.0).unwrap()
 }
 
 #[test]
 fn varied_pieces_meet_the_accuracy_goals() {
     let (mut rpa_sum, mut f_sum, mut n) = (0.0, 0.0, 0.0);
     for seed in 1..=4 {
-        let piece = render(&SynthConfig::varied(seed, 16.0)).unwrap();
-        let (track, notes) = analyse(&piece);
-        let reference = piece.reference_f0(track.hop_s, track.len());
-        let estimated: Vec<f32> = track
-            .f0_hz
-            .iter()
-            .map(|f| if f.is_finite() { *f } else { 0.0 })
-            .collect();
-        let melody = melody_scores(&reference, &estimated, 50.0).unwrap();
-        let ref_on: Vec<f64> = piece.notes.iter().map(|n| n.onset_s).collect();
+        let item = item(seed, 16.0);
+        let (track, notes) = analyse(&item.audio);
+        let melody = melody_against(&item, &track.f0_hz, track.hop_s);
+        let ref_on: Vec<f64> = item.timeline.notes.iter().map(|n| n.note.onset_s).collect();
         let est_on: Vec<f64> = notes.iter().map(|n| n.onset_s).collect();
         let onsets = onset_prf(&ref_on, &est_on, 0.05);
         println!(
-            "seed {seed}: {:.0} bpm {:?}: RPA {:.4} VR {:.3} VFA {:.3} onset P {:.3} R {:.3} F {:.3} ({} ref, {} est)",
-            piece.tempo_bpm, piece.time_signature, melody.raw_pitch_accuracy, melody.voicing_recall,
+            "seed {seed}: {:.0} bpm {}: RPA {:.4} VR {:.3} VFA {:.3} onset P {:.3} R {:.3} F {:.3} ({} ref, {} est)",
+            item.timeline.tempo_bpm, item.etude.meter.name(), melody.raw_pitch_accuracy, melody.voicing_recall,
             melody.voicing_false_alarm, onsets.precision, onsets.recall, onsets.f_measure, ref_on.len(), est_on.len()
         );
         rpa_sum += melody.raw_pitch_accuracy;
@@ -76,10 +97,29 @@ fn vibrato_does_not_split_a_long_note() {
     }
 }
 
+/// SplitMix64 with Box–Muller normals: the seeded noise of the bow-change bursts below.
+struct SplitMix64(u64);
+
+impl SplitMix64 {
+    fn unit(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    fn normal(&mut self) -> f64 {
+        let u1 = self.unit().max(1e-300);
+        let u2 = self.unit();
+        (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+    }
+}
+
 /// A tone with a bow change (dip + noise burst) or a slur at each boundary.
 fn tone_sequence(pitches: &[(f64, bool)], note_s: f64, glide_s: f64) -> Vec<f32> {
     let sr = 22_050.0;
-    let mut rng = pitch_track::synth::Rng::new(5);
+    let mut rng = SplitMix64(5);
     let mut out = Vec::new();
     let mut phase = 0.0f64;
     let mut prev: Option<f64> = None;
@@ -218,22 +258,13 @@ fn bad_input_is_a_typed_error() {
 
 #[test]
 fn resampling_to_30_fps_keeps_the_pitch() {
-    let piece = render(&SynthConfig {
-        bars: 2,
-        ..SynthConfig::default()
-    })
-    .unwrap();
-    let (track, _) = analyse(&piece);
+    let item = item(2, 6.0);
+    let (track, _) = analyse(&item.audio);
     let at30 = track.resample_to_fps(30.0);
     assert!((at30.hop_s - 1.0 / 30.0).abs() < 1e-12);
     let span = (track.len() - 1) as f64 * track.hop_s;
     assert_eq!(at30.len(), (span * 30.0).floor() as usize + 1);
-    let reference = piece.reference_f0(at30.hop_s, at30.len());
-    let est: Vec<f32> = at30
-        .f0_hz
-        .iter()
-        .map(|f| if f.is_finite() { *f } else { 0.0 })
-        .collect();
-    let s = melody_scores(&reference, &est, 50.0).unwrap();
+    let s = melody_against(&item, &at30.f0_hz, at30.hop_s);
+    println!("30 fps: {s:?}");
     assert!(s.raw_pitch_accuracy > 0.95, "{s:?}");
 }
