@@ -3,10 +3,13 @@
 
     python3 scripts/corpus_pitch_check.py DIR [DIR ...]
 
-Each DIR holds `audio.wav` and `notes.tsv` (onset_s, offset_s, midi, ...). Prints the raw pitch
+Each DIR holds `audio.wav` (or `audio.mp3` / `audio.ogg`, mono or stereo: mixed down) and
+`notes.tsv` (onset_s, offset_s, midi, ...). Frames within 30 ms of a note's onset or end are
+not scored ("away from onsets"). Prints the raw pitch
 accuracy (share of labelled-voiced frames whose pyin f0 is within 50 cents of the label; an
 unvoiced estimate counts as wrong) and the voicing recall, pooled over all DIRs.
 """
+import glob
 import sys
 
 import librosa
@@ -16,7 +19,8 @@ HOP = 256
 
 
 def check(d):
-    y, sr = librosa.load(f"{d}/audio.wav", sr=22050)
+    audio = sorted(glob.glob(f"{d}/audio.*"))[0]
+    y, sr = librosa.load(audio, sr=22050, mono=True)
     f0, voiced, _ = librosa.pyin(y, fmin=185, fmax=3600, sr=sr, frame_length=2048, hop_length=HOP)
     t = librosa.times_like(f0, sr=sr, hop_length=HOP)
     ref = np.zeros_like(f0)

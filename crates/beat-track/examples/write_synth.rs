@@ -58,8 +58,8 @@ fn write_truth(path: &Path, item: &CorpusItem) {
     let truth = serde_json::json!({
         "duration_s": item.audio.len() as f64 / f64::from(SR),
         "tempo_bpm": tl.tempo_bpm,
-        "beats_per_bar": item.etude.meter.beats_per_bar(),
-        "subdivisions": item.etude.meter.beat_division(),
+        "beats_per_bar": item.time_signature.meter().beats_per_bar,
+        "subdivisions": item.time_signature.meter().subdivisions,
         "notes": tl.notes.iter().enumerate().map(|(i, n)| serde_json::json!({
             "onset_s": n.note.onset_s, "offset_s": n.note.offset_s, "midi": n.note.midi,
             "slurred": i > 0 && !n.bow_change
@@ -99,7 +99,7 @@ fn main() {
             "synth_{seed}: {:.1} s, {:.0} bpm, {}, {} notes",
             item.audio.len() as f64 / f64::from(SR),
             item.timeline.tempo_bpm,
-            item.etude.meter.name(),
+            item.time_signature,
             item.timeline.notes.len()
         );
     }

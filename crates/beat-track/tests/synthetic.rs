@@ -96,7 +96,7 @@ fn varied_pieces_meet_the_beat_and_downbeat_goals() {
             beat_prf(&truth.downbeats_s, &plain.downbeats_s, BEAT_TOLERANCE_S).f_measure;
         println!(
             "seed {seed}: truth {:.0} bpm {} → {:.1} bpm {}/{}: beat F {beat:.3}, downbeat F {down:.3} (no notes {down_plain:.3})",
-            truth.tempo_bpm, item.etude.meter.name(),
+            truth.tempo_bpm, item.time_signature,
             with_notes.tempo_bpm, with_notes.meter.beats_per_bar, with_notes.meter.subdivisions
         );
         beat_sum += beat;
@@ -164,7 +164,7 @@ fn rubato_is_followed() {
         .track(&samples, None)
         .unwrap();
     let f = beat_prf(&timeline.beats_s, &a.beats_s, BEAT_TOLERANCE_S).f_measure;
-    println!("{}: beat F {f:.3}", item.etude.meter.name());
+    println!("{}: beat F {f:.3}", item.time_signature);
     assert!(f >= 0.85, "beat F {f}");
 }
 
@@ -302,7 +302,7 @@ fn no_beats_in_the_silence_around_the_music() {
     );
     let shifted: Vec<f64> = item.timeline.beats_s.iter().map(|b| b + offset_s).collect();
     let f = beat_prf(&shifted, &a.beats_s, BEAT_TOLERANCE_S).f_measure;
-    println!("{}: beat F {f:.3}", item.etude.meter.name());
+    println!("{}: beat F {f:.3}", item.time_signature);
     assert!(f >= 0.8, "beat F {f}");
 }
 

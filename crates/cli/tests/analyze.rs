@@ -98,7 +98,7 @@ fn synthetic_violin_gives_the_schema() {
         beats.len(),
         item.timeline.beats_s.len(),
         a["tempo_bpm"],
-        item.etude.meter.name()
+        item.time_signature
     );
     assert!((a["tempo_bpm"].as_f64().unwrap() - 110.0).abs() < 8.0);
 

@@ -126,7 +126,7 @@ pub fn perform(score: &Score, seed: u64, tempo_range_bpm: (f64, f64)) -> Played 
     let hairpin = (
         rng.uniform(0.1, 0.3),
         rng.uniform(2.0, 4.0) * bar_q,
-        rng.uniform(0.0, 6.28),
+        rng.uniform(0.0, std::f64::consts::TAU),
     );
     let mut notes: Vec<TimedNote> = Vec::with_capacity(score.notes.len());
     let mut on_downbeat = Vec::with_capacity(score.notes.len());
@@ -214,12 +214,12 @@ fn tempo_curve(
         (
             t.rubato_depth[0],
             rng.uniform(4.0, 16.0) * bar_q,
-            rng.uniform(0.0, 6.28),
+            rng.uniform(0.0, std::f64::consts::TAU),
         ),
         (
             t.rubato_depth[1],
             rng.uniform(1.0, 3.0) * bar_q,
-            rng.uniform(0.0, 6.28),
+            rng.uniform(0.0, std::f64::consts::TAU),
         ),
     ];
     let bars = (total_q / bar_q).ceil() as usize + 2;

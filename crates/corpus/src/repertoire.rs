@@ -109,7 +109,7 @@ pub fn read_score(path: &Path) -> Result<Score, String> {
     let mut bars = Vec::with_capacity(file.bars.len());
     for b in &file.bars {
         let ts = TimeSignature::new(b.numerator, b.denominator);
-        if !ts.is_valid() || !(b.start_q.is_finite() && b.len_q.is_finite() && b.len_q > 0.0) {
+        if !(ts.is_valid() && b.start_q.is_finite() && b.len_q.is_finite() && b.len_q > 0.0) {
             return Err(format!("bad bar at {} quarters", b.start_q));
         }
         bars.push(Bar {

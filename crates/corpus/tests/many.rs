@@ -8,7 +8,7 @@ use corpus::manifest::Split;
 use corpus::repertoire::{read_dir, read_score};
 use corpus::schedule::{work_split, HeldOut};
 
-fn tiny_repertoire(dir: &Path) {
+fn tiny_repertoire(dir: &Path) -> std::io::Result<()> {
     // Two short tunes in 6/8 and 3/8 with a pickup, slurs and a fermata, in the score schema.
     for (name, num, den, pickup) in [("jig", 6u8, 8u8, 0.5), ("waltz", 3, 8, 0.0)] {
         let bar_q = f64::from(num) * 4.0 / f64::from(den);
@@ -38,13 +38,12 @@ fn tiny_repertoire(dir: &Path) {
             "source": "generated in tests/many.rs", "license": "ours", "tempo_qpm": null,
             "bars": bars, "notes": notes
         });
-        std::fs::write(dir.join(format!("{name}.json")), score.to_string()).unwrap();
+        std::fs::write(dir.join(format!("{name}.json")), score.to_string())?;
     }
-    std::fs::write(dir.join("broken.json"), "{\"schema\": ").unwrap();
-    let reserved = std::fs::read_to_string(dir.join("jig.json"))
-        .unwrap()
+    std::fs::write(dir.join("broken.json"), "{\"schema\": ")?;
+    let reserved = std::fs::read_to_string(dir.join("jig.json"))?
         .replace("test/jig", "mozart/k458/movement1/violin1");
-    std::fs::write(dir.join("reserved.json"), reserved).unwrap();
+    std::fs::write(dir.join("reserved.json"), reserved)
 }
 
 fn sf2_dir() -> Option<&'static Path> {
@@ -58,7 +57,7 @@ fn sf2_dir() -> Option<&'static Path> {
 #[test]
 fn repertoire_reader_skips_broken_and_reserved_files() {
     let dir = tempfile::tempdir().unwrap();
-    tiny_repertoire(dir.path());
+    tiny_repertoire(dir.path()).unwrap();
     let (scores, skipped) = read_dir(dir.path()).unwrap();
     assert_eq!(scores.len(), 2);
     assert_eq!(skipped.len(), 2, "{skipped:?}");
@@ -83,7 +82,7 @@ fn many_violin_corpus_splits_by_work_and_violin() {
         panic!("the Debian SoundFonts are missing: apt-get install fluid-soundfont-gm timgm6mb-soundfont csound-soundfont (.ci/run installs them)");
     };
     let rep = tempfile::tempdir().unwrap();
-    tiny_repertoire(rep.path());
+    tiny_repertoire(rep.path()).unwrap();
     let out = tempfile::tempdir().unwrap();
     let cfg = CorpusConfig {
         minutes: 2.5,

@@ -76,7 +76,7 @@ impl TimeSignature {
 
     /// Compound (6/8, 9/8, 12/8, 6/16, …) or 3/8: counted in dotted beats of three units.
     fn dotted(self) -> bool {
-        self.denominator >= 8 && self.numerator % 3 == 0
+        self.denominator >= 8 && self.numerator.is_multiple_of(3)
     }
 
     /// Beats per bar and their subdivision at the notated level.

@@ -60,7 +60,7 @@ fn varied_pieces_meet_the_accuracy_goals() {
         let onsets = onset_prf(&ref_on, &est_on, 0.05);
         println!(
             "seed {seed}: {:.0} bpm {}: RPA {:.4} VR {:.3} VFA {:.3} onset P {:.3} R {:.3} F {:.3} ({} ref, {} est)",
-            item.timeline.tempo_bpm, item.etude.meter.name(), melody.raw_pitch_accuracy, melody.voicing_recall,
+            item.timeline.tempo_bpm, item.time_signature, melody.raw_pitch_accuracy, melody.voicing_recall,
             melody.voicing_false_alarm, onsets.precision, onsets.recall, onsets.f_measure, ref_on.len(), est_on.len()
         );
         rpa_sum += melody.raw_pitch_accuracy;

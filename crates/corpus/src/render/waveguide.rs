@@ -169,7 +169,11 @@ impl WaveguideViolin {
             let beta = (item.beta + r.uniform(-0.015, 0.015)).clamp(cfg.beta.0, cfg.beta.1);
             let new_stroke = n.bow_change || strokes.is_empty();
             if new_stroke {
-                let direction = if strokes.len() % 2 == 0 { 1.0 } else { -1.0 };
+                let direction = if strokes.len().is_multiple_of(2) {
+                    1.0
+                } else {
+                    -1.0
+                };
                 strokes.push(StrokePlan {
                     start: n.note.onset_s,
                     end: n.note.offset_s,
