@@ -102,6 +102,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .and_then(|i| args.get(i + 1))
         .map(PathBuf::from);
     let reserved = args.iter().any(|a| a == "--reserved");
+    let debug = args
+        .iter()
+        .position(|a| a == "--debug")
+        .and_then(|i| args.get(i + 1))
+        .cloned();
     let pieces = read_tnua_dir(&dir)?;
     let train: Vec<&Piece> = pieces
         .iter()
@@ -137,11 +142,37 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         return Ok(());
     }
 
+    if let Some(name) = debug {
+        let h = [5.0, 50.0, 1.5, 0.5];
+        let rest: Vec<&Piece> = train.iter().filter(|p| p.name != name).copied().collect();
+        let Some(piece) = train.iter().find(|p| p.name == name) else {
+            return Err("no such training piece".into());
+        };
+        let plan = LearnedPlanner::new(&fit(&rest, h[0], h[1], h[2], h[3])).plan(&piece.midi)?;
+        for (i, (f, labels)) in plan.iter().zip(&piece.labels).enumerate() {
+            let ok = labels.iter().flatten().any(|l| l.same_string_position(f));
+            let l: Vec<String> = labels
+                .iter()
+                .map(|l| l.map_or("-".into(), |l| format!("{}{}{}", l.string, l.position, l.finger)))
+                .collect();
+            println!(
+                "{i:4} {:3} {}{}{}{:?} {} {}",
+                piece.midi[i],
+                f.string.number(),
+                f.position,
+                f.finger,
+                f.placement,
+                if ok { "  " } else { "XX" },
+                l.join(" ")
+            );
+        }
+        return Ok(());
+    }
     let mut grid = Vec::new();
-    for alpha in [1.0, 5.0, 20.0] {
-        for beta in [5.0, 50.0] {
-            for lambda in [0.5, 1.0, 1.5, 2.0] {
-                for mu in [0.0, 0.5, 1.0] {
+    for alpha in [5.0] {
+        for beta in [50.0, 200.0] {
+            for lambda in [1.5, 2.0, 3.0, 4.0] {
+                for mu in [0.5, 1.0, 2.0, 3.0] {
                     grid.push([alpha, beta, lambda, mu]);
                 }
             }
