@@ -143,7 +143,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
 
     if let Some(name) = debug {
-        let h = [5.0, 50.0, 1.5, 0.5];
+        let h = [5.0, 200.0, 2.0, 0.5];
         let rest: Vec<&Piece> = train.iter().filter(|p| p.name != name).copied().collect();
         let Some(piece) = train.iter().find(|p| p.name == name) else {
             return Err("no such training piece".into());

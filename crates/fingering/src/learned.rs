@@ -72,11 +72,40 @@ pub(crate) fn steps(from: &Fingering, to: &Fingering) -> (i8, i8) {
     (ds, dp)
 }
 
+/// Melodic contexts a note's place depends on: the interval from the previous note and to
+/// the next one, each in six classes (none, leap down ≥ 3, step down, repeat, step up, leap
+/// up ≥ 3).
+pub const CONTEXTS: usize = 36;
+
+fn interval_bucket(from: Option<u8>, to: Option<u8>) -> usize {
+    match (from, to) {
+        (Some(a), Some(b)) => match i16::from(b) - i16::from(a) {
+            ..=-3 => 1,
+            -2..=-1 => 2,
+            0 => 3,
+            1..=2 => 4,
+            _ => 5,
+        },
+        _ => 0,
+    }
+}
+
+/// The melodic context of note `i` of `midi` (0..[`CONTEXTS`]).
+pub fn context(midi: &[u8], i: usize) -> u8 {
+    let at = |k: Option<usize>| k.and_then(|k| midi.get(k)).copied();
+    let here = at(Some(i));
+    let prev = interval_bucket(at(i.checked_sub(1)), here);
+    let next = interval_bucket(here, at(i.checked_add(1)));
+    (prev * 6 + next) as u8
+}
+
 /// The model ready to decode: places and emission costs per pitch, transition costs.
 #[derive(Debug)]
 struct Tables {
-    /// `places[midi - 55]`: (place, emission cost in nats).
-    places: Vec<Vec<(Fingering, f64)>>,
+    /// `places[midi - 55]`: the places of [`learned_places`].
+    places: Vec<Vec<Fingering>>,
+    /// `emission[midi - 55][place][context]`: cost in nats.
+    emission: Vec<Vec<[f64; CONTEXTS]>>,
     /// `transition[interval][dstring][dposition]` in nats, times `lambda`.
     transition: Vec<f64>,
     /// `finger[interval][from][to]` in nats, times `mu`.
@@ -92,10 +121,17 @@ impl Tables {
     fn new(p: &LearnedParams) -> Tables {
         // Emission back-off: how often (finger, placement, position) is used at all.
         let mut shape: BTreeMap<(u8, Placement, u8), f64> = BTreeMap::new();
-        for ((_, f), &n) in &p.emission {
+        for ((_, _, f), &n) in &p.emission {
             *shape.entry((f.finger, f.placement, f.position)).or_default() += f64::from(n);
         }
+        let mut ctx_counts: BTreeMap<(u8, Fingering), [f64; CONTEXTS]> = BTreeMap::new();
+        for (&(midi, ctx, f), &n) in &p.emission {
+            if let Some(c) = ctx_counts.entry((midi, f)).or_insert([0.0; CONTEXTS]).get_mut(usize::from(ctx)) {
+                *c += f64::from(n);
+            }
+        }
         let mut places = Vec::new();
+        let mut emission = Vec::new();
         for midi in physical::LOWEST_MIDI..=physical::HIGHEST_MIDI {
             let list = learned_places(midi);
             let g: Vec<f64> = list
@@ -103,17 +139,33 @@ impl Tables {
                 .map(|f| 1.0 + shape.get(&(f.finger, f.placement, f.position)).unwrap_or(&0.0))
                 .collect();
             let g_total: f64 = g.iter().sum();
-            let counts: Vec<f64> = list
+            let counts: Vec<[f64; CONTEXTS]> = list
                 .iter()
-                .map(|f| f64::from(*p.emission.get(&(midi, *f)).unwrap_or(&0)))
+                .map(|f| ctx_counts.get(&(midi, *f)).copied().unwrap_or([0.0; CONTEXTS]))
                 .collect();
-            let n: f64 = counts.iter().sum();
-            places.push(
-                list.iter()
-                    .zip(counts.iter().zip(&g))
-                    .map(|(f, (&c, &q))| (*f, smoothed(c, n, p.alpha, q / g_total)))
+            let n_place: Vec<f64> = counts.iter().map(|c| c.iter().sum()).collect();
+            let n: f64 = n_place.iter().sum();
+            let mut n_ctx = [0.0; CONTEXTS];
+            for c in &counts {
+                for (t, v) in n_ctx.iter_mut().zip(c) {
+                    *t += v;
+                }
+            }
+            emission.push(
+                counts
+                    .iter()
+                    .zip(n_place.iter().zip(&g))
+                    .map(|(c, (&np, &q))| {
+                        let pitch_level = (np + p.alpha * q / g_total) / (n + p.alpha);
+                        let mut out = [0.0; CONTEXTS];
+                        for (k, o) in out.iter_mut().enumerate() {
+                            *o = smoothed(c[k], n_ctx[k], p.alpha, pitch_level);
+                        }
+                        out
+                    })
                     .collect(),
             );
+            places.push(list);
         }
         let mut transition = vec![0.0; IC * DS * DP];
         let mut global = vec![1.0; DS * DP];
@@ -156,6 +208,7 @@ impl Tables {
         }
         Tables {
             places,
+            emission,
             transition,
             finger,
         }
@@ -224,11 +277,20 @@ impl LearnedPlanner {
         &self.style
     }
 
-    /// The places and their emission costs for `midi` (empty outside G3..=A7).
-    pub fn places(&self, midi: u8) -> &[(Fingering, f64)] {
+    /// The places the planner considers for `midi` (empty outside G3..=A7).
+    pub fn places(&self, midi: u8) -> &[Fingering] {
         midi.checked_sub(physical::LOWEST_MIDI)
             .and_then(|i| self.tables.places.get(usize::from(i)))
             .map_or(&[], |v| v.as_slice())
+    }
+
+    /// The emission costs (nats) of `midi`'s places in melodic context `ctx`.
+    fn emission(&self, midi: u8, ctx: u8) -> impl Iterator<Item = f64> + '_ {
+        midi.checked_sub(physical::LOWEST_MIDI)
+            .and_then(|i| self.tables.emission.get(usize::from(i)))
+            .into_iter()
+            .flatten()
+            .map(move |c| c.get(usize::from(ctx)).copied().unwrap_or(f64::INFINITY))
     }
 }
 
@@ -242,30 +304,35 @@ impl FingeringPlanner for LearnedPlanner {
         let mut back: Vec<Vec<u32>> = Vec::with_capacity(midi.len());
         let mut score: Vec<f64> = Vec::new();
         let mut next: Vec<f64> = Vec::new();
-        let mut bare: Vec<Fingering> = Vec::new();
+        let mut own: Vec<f64> = Vec::new();
         for (i, &note) in midi.iter().enumerate() {
             let places = self.places(note);
-            bare.clear();
-            bare.extend(places.iter().map(|p| p.0));
-            let own = |(f, e): &(Fingering, f64)| *e + self.style.place_cost(i, f, &bare);
+            let ctx = context(midi, i);
+            own.clear();
+            own.extend(
+                places
+                    .iter()
+                    .zip(self.emission(note, ctx))
+                    .map(|(f, e)| e + self.style.place_cost(i, f, places)),
+            );
             next.clear();
             let mut from = Vec::with_capacity(places.len());
             match i.checked_sub(1).and_then(|j| midi.get(j)) {
                 None => {
-                    next.extend(places.iter().map(own));
+                    next.extend(own.iter().copied());
                     from.resize(places.len(), 0);
                 }
                 Some(&prev) => {
                     let prev_places = self.places(prev);
-                    for place in places {
+                    for (place, own) in places.iter().zip(&own) {
                         let (mut best, mut arg) = (f64::INFINITY, 0u32);
-                        for (j, (pf, _)) in prev_places.iter().enumerate() {
-                            let s = score[j] + self.tables.transition(prev, pf, note, &place.0);
+                        for (j, pf) in prev_places.iter().enumerate() {
+                            let s = score[j] + self.tables.transition(prev, pf, note, place);
                             if s < best {
                                 (best, arg) = (s, j as u32);
                             }
                         }
-                        next.push(best + own(place));
+                        next.push(best + own);
                         from.push(arg);
                     }
                 }
@@ -281,7 +348,7 @@ impl FingeringPlanner for LearnedPlanner {
             .unwrap_or(0);
         let mut plan = vec![Fingering::open(ViolinString::G, 1); midi.len()];
         for i in (0..midi.len()).rev() {
-            if let Some(&(f, _)) = self.places(midi[i]).get(j) {
+            if let Some(&f) = self.places(midi[i]).get(j) {
                 plan[i] = f;
             }
             j = back[i].get(j).map_or(0, |&b| b as usize);

@@ -6,6 +6,7 @@ use std::fmt::Write as _;
 
 use crate::error::FingeringError;
 use crate::fingering::Fingering;
+use crate::learned::CONTEXTS;
 use crate::placement::Placement;
 use crate::string::ViolinString;
 
@@ -21,7 +22,8 @@ pub const MAX_POSITION_STEP: i8 = 7;
 
 /// Counts and smoothing of the learned planner ([`crate::LearnedPlanner`]):
 ///
-/// * `emission[(pitch, place)]`: how often a violinist played `pitch` at `place`;
+/// * `emission[(pitch, context, place)]`: how often a violinist played `pitch` at `place`
+///   in that melodic context ([`crate::learned::context`]);
 /// * `transition[(interval, string step, position step)]`: how often consecutive notes
 ///   `interval` semitones apart moved that many strings and positions;
 /// * `finger[(interval, previous finger, finger)]` for consecutive notes in the same
@@ -39,7 +41,7 @@ pub struct LearnedParams {
     /// Weight of the finger-to-finger costs.
     pub mu: f64,
     /// Where each pitch was played.
-    pub emission: BTreeMap<(u8, Fingering), u32>,
+    pub emission: BTreeMap<(u8, u8, Fingering), u32>,
     /// String and position steps per interval class.
     pub transition: BTreeMap<(i8, i8, i8), u32>,
     /// Finger pairs per interval class within one position and string.
@@ -68,7 +70,7 @@ impl LearnedParams {
     }
 
     /// Writes the parameters as TSV: `#` lines, then `hyper alpha beta lambda mu`,
-    /// `e pitch string position finger placement count`, `t interval dstring dposition
+    /// `e pitch context string position finger placement count`, `t interval dstring dposition
     /// count` and `f interval finger_from finger_to count` rows.
     pub fn to_tsv(&self) -> String {
         let mut out = String::new();
@@ -80,10 +82,10 @@ impl LearnedParams {
             "hyper\t{}\t{}\t{}\t{}",
             self.alpha, self.beta, self.lambda, self.mu
         );
-        for ((pitch, f), n) in &self.emission {
+        for ((pitch, ctx, f), n) in &self.emission {
             let _ = writeln!(
                 out,
-                "e\t{pitch}\t{}\t{}\t{}\t{}\t{n}",
+                "e\t{pitch}\t{ctx}\t{}\t{}\t{}\t{}\t{n}",
                 f.string.number(),
                 f.position,
                 f.finger,
@@ -139,14 +141,18 @@ impl LearnedParams {
                 .map_err(|e| err(format!("{kind}: {e}")))?;
             let small = |x: i64, lo: i64, hi: i64| (lo..=hi).contains(&x);
             match (kind, &v[..]) {
-                ("e", &[pitch, s, pos, f, pl, n]) => {
+                ("e", &[pitch, ctx, s, pos, f, pl, n]) => {
                     let string = u8::try_from(s)
                         .ok()
                         .and_then(ViolinString::from_number)
                         .ok_or_else(|| err(format!("string {s} is not 1..=4")))?;
                     let placement =
                         placement_of(pl).ok_or_else(|| err(format!("placement {pl}")))?;
-                    if !(small(pitch, 0, 127) && small(pos, 0, 20) && small(f, 0, 4)) {
+                    if !(small(pitch, 0, 127)
+                        && small(ctx, 0, CONTEXTS as i64 - 1)
+                        && small(pos, 0, 20)
+                        && small(f, 0, 4))
+                    {
                         return Err(err("pitch, position or finger out of range".into()));
                     }
                     let place =
@@ -154,7 +160,9 @@ impl LearnedParams {
                     if place.midi() != pitch as u8 {
                         return Err(err(format!("place does not play MIDI {pitch}")));
                     }
-                    params.emission.insert((pitch as u8, place), count(n, &err)?);
+                    params
+                        .emission
+                        .insert((pitch as u8, ctx as u8, place), count(n, &err)?);
                 }
                 ("t", &[iv, s, p, n]) if small(iv, -13, 13) && small(s, -3, 3) && small(p, -7, 7) => {
                     params
@@ -198,13 +206,13 @@ mod tests {
             ..LearnedParams::default()
         };
         p.emission
-            .insert((71, Fingering::new(ViolinString::A, 1, 1)), 7);
+            .insert((71, 3, Fingering::new(ViolinString::A, 1, 1)), 7);
         p.transition.insert((2, 0, 0), 3);
         p.finger.insert((2, 1, 2), 4);
         let back = LearnedParams::from_tsv(&p.to_tsv()).unwrap();
         assert_eq!(back, p);
         assert!(LearnedParams::from_tsv("e\t71\t3\t1\t1\t0\t7\n").is_err()); // no hyper
-        let wrong_pitch = "hyper\t1\t1\t1\t1\ne\t72\t3\t1\t1\t0\t7\n";
+        let wrong_pitch = "hyper\t1\t1\t1\t1\ne\t72\t0\t3\t1\t1\t0\t7\n";
         assert!(LearnedParams::from_tsv(wrong_pitch).is_err());
         assert!(LearnedParams::from_tsv("hyper\t1\t1\tx\t1\n").is_err());
     }

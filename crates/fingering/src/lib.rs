@@ -55,7 +55,7 @@ pub use cost::CostWeights;
 pub use error::FingeringError;
 pub use fingering::Fingering;
 pub use greedy::GreedyPlanner;
-pub use learned::{learned_places, LearnedPlanner, LEARNED_MAX_POSITION};
+pub use learned::{context, learned_places, LearnedPlanner, CONTEXTS, LEARNED_MAX_POSITION};
 pub use learned_params::{LearnedParams, LEARNED_PARAMS_TSV};
 pub use optimal::OptimalPlanner;
 pub use placement::Placement;

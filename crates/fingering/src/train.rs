@@ -12,7 +12,7 @@ use std::path::Path;
 
 use crate::error::FingeringError;
 use crate::fingering::Fingering;
-use crate::learned::{interval_class, steps};
+use crate::learned::{context, interval_class, steps};
 use crate::learned_params::LearnedParams;
 use crate::placement::Placement;
 use crate::string::ViolinString;
@@ -197,10 +197,11 @@ pub fn fit(pieces: &[&Piece], alpha: f64, beta: f64, lambda: f64, mu: f64) -> Le
     for piece in pieces {
         for seq in &piece.sequences {
             let mut previous: Option<(u8, Fingering)> = None;
-            for &(midi, label) in seq {
+            let pitches: Vec<u8> = seq.iter().map(|s| s.0).collect();
+            for (i, &(midi, label)) in seq.iter().enumerate() {
                 let place = label.to_fingering(midi);
                 if let Some(f) = place {
-                    *p.emission.entry((midi, f)).or_default() += 1;
+                    *p.emission.entry((midi, context(&pitches, i), f)).or_default() += 1;
                     if let Some((pm, pf)) = previous {
                         let iv = interval_class(pm, midi);
                         let (ds, dp) = steps(&pf, &f);
