@@ -63,7 +63,7 @@ fn evaluate(planner: &dyn FingeringPlanner, pieces: &[&Piece]) -> (Agreement, Ve
     (total, each)
 }
 
-fn lopo(train: &[&Piece], h: [f64; 4]) -> (Agreement, Vec<Agreement>) {
+fn lopo(train: &[&Piece], h: [f64; 6]) -> (Agreement, Vec<Agreement>) {
     let mut total = Agreement::default();
     let mut each = Vec::new();
     for (i, held) in train.iter().enumerate() {
@@ -73,7 +73,7 @@ fn lopo(train: &[&Piece], h: [f64; 4]) -> (Agreement, Vec<Agreement>) {
             .filter(|(j, _)| *j != i)
             .map(|(_, p)| *p)
             .collect();
-        let planner = LearnedPlanner::new(&fit(&rest, h[0], h[1], h[2], h[3]));
+        let planner = LearnedPlanner::new(&fit(&rest, h));
         let (a, _) = evaluate(&planner, &[held]);
         total.add(&a);
         each.push(a);
@@ -143,12 +143,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
 
     if let Some(name) = debug {
-        let h = [5.0, 200.0, 2.0, 0.5];
+        let h = [5.0, 200.0, 2.0, 0.5, 0.0, 0.0];
         let rest: Vec<&Piece> = train.iter().filter(|p| p.name != name).copied().collect();
         let Some(piece) = train.iter().find(|p| p.name == name) else {
             return Err("no such training piece".into());
         };
-        let plan = LearnedPlanner::new(&fit(&rest, h[0], h[1], h[2], h[3])).plan(&piece.midi)?;
+        let plan = LearnedPlanner::new(&fit(&rest, h)).plan(&piece.midi)?;
         for (i, (f, labels)) in plan.iter().zip(&piece.labels).enumerate() {
             let ok = labels.iter().flatten().any(|l| l.same_string_position(f));
             let l: Vec<String> = labels
@@ -170,10 +170,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     let mut grid = Vec::new();
     for alpha in [5.0] {
-        for beta in [50.0, 200.0] {
-            for lambda in [1.5, 2.0, 3.0, 4.0] {
-                for mu in [0.5, 1.0, 2.0, 3.0] {
-                    grid.push([alpha, beta, lambda, mu]);
+        for beta in [200.0] {
+            for lambda in [1.5, 2.0, 3.0] {
+                for mu in [0.5, 2.0] {
+                    for gs in [0.0, 0.1, 0.25] {
+                        for gp in [0.0, 0.1, 0.25] {
+                            grid.push([alpha, beta, lambda, mu, gs, gp]);
+                        }
+                    }
                 }
             }
         }
@@ -182,19 +186,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     for h in &grid {
         let (a, _) = lopo(&train, *h);
         let (s, sp, any) = a.shares();
-        eprintln!("alpha {} beta {} lambda {} mu {}: {s:.3} {sp:.3} {any:.3}", h[0], h[1], h[2], h[3]);
+        eprintln!("{h:?}: {s:.3} {sp:.3} {any:.3}");
         if sp > best.0 {
             best = (sp, *h);
         }
     }
     let h = best.1;
     println!(
-        "## Leave-one-piece-out over {} training pieces (alpha {}, beta {}, lambda {}, mu {})",
-        train.len(),
-        h[0],
-        h[1],
-        h[2],
-        h[3]
+        "## Leave-one-piece-out over {} training pieces (alpha, beta, lambda, mu, gamma_string, gamma_position = {h:?})",
+        train.len()
     );
     println!("| planner | notes | string | string+position | ≥ 1 violinist |");
     println!("|---|---|---|---|---|");
@@ -208,7 +208,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         println!("{}", row(&p.name, a));
     }
     if let Some(path) = write {
-        let params: LearnedParams = fit(&train, h[0], h[1], h[2], h[3]);
+        let params: LearnedParams = fit(&train, h);
         std::fs::write(&path, params.to_tsv())?;
         println!("\nparameters fitted on all {} training pieces written to {}", train.len(), path.display());
     }

@@ -99,6 +99,45 @@ pub fn context(midi: &[u8], i: usize) -> u8 {
     (prev * 6 + next) as u8
 }
 
+/// Notes either side of a note whose playability in a place's hand frame is rewarded.
+pub const WINDOW: usize = 4;
+
+/// Whether `midi` can be played on `string` with the hand in `position` (an open string,
+/// or a stop from a semitone below the first finger's place to one above the 4th's).
+fn in_frame(midi: u8, string: ViolinString, position: u8) -> bool {
+    match midi.checked_sub(string.open_midi()) {
+        Some(0) => true,
+        Some(above) => {
+            let b = i32::from(position_offset(position));
+            (b - 1..=b + 6).contains(&i32::from(above))
+        }
+        None => false,
+    }
+}
+
+/// The neighbours of note `i` (within [`WINDOW`]) that `place`'s hand frame covers: on
+/// the same string, and on any string.
+fn coverage(midi: &[u8], i: usize, place: &Fingering) -> (f64, f64) {
+    let (mut same, mut any) = (0.0, 0.0);
+    let lo = i.saturating_sub(WINDOW);
+    let hi = (i + WINDOW + 1).min(midi.len());
+    for (j, &m) in midi.iter().enumerate().take(hi).skip(lo) {
+        if j == i {
+            continue;
+        }
+        if in_frame(m, place.string, place.position) {
+            same += 1.0;
+            any += 1.0;
+        } else if ViolinString::ALL
+            .iter()
+            .any(|&s| in_frame(m, s, place.position))
+        {
+            any += 1.0;
+        }
+    }
+    (same, any)
+}
+
 /// The model ready to decode: places and emission costs per pitch, transition costs.
 #[derive(Debug)]
 struct Tables {
@@ -110,6 +149,8 @@ struct Tables {
     transition: Vec<f64>,
     /// `finger[interval][from][to]` in nats, times `mu`.
     finger: Vec<f64>,
+    gamma_string: f64,
+    gamma_position: f64,
 }
 
 /// −ln of smoothed relative frequencies: `(c + w·q) / (n + w)` with `q` the back-off.
@@ -207,6 +248,8 @@ impl Tables {
             }
         }
         Tables {
+            gamma_string: p.gamma_string,
+            gamma_position: p.gamma_position,
             places,
             emission,
             transition,
@@ -313,7 +356,16 @@ impl FingeringPlanner for LearnedPlanner {
                 places
                     .iter()
                     .zip(self.emission(note, ctx))
-                    .map(|(f, e)| e + self.style.place_cost(i, f, places)),
+                    .map(|(f, e)| {
+                        let (same, any) = if self.tables.gamma_string + self.tables.gamma_position > 0.0 {
+                            coverage(midi, i, f)
+                        } else {
+                            (0.0, 0.0)
+                        };
+                        e + self.style.place_cost(i, f, places)
+                            - self.tables.gamma_string * same
+                            - self.tables.gamma_position * any
+                    }),
             );
             next.clear();
             let mut from = Vec::with_capacity(places.len());

@@ -29,7 +29,10 @@ pub const MAX_POSITION_STEP: i8 = 7;
 /// * `finger[(interval, previous finger, finger)]` for consecutive notes in the same
 ///   position on the same string;
 /// * `alpha`, `beta`: smoothing weights (pseudo-counts spread over the back-off
-///   distributions); `lambda`: weight of the transition costs against the emission costs.
+///   distributions); `lambda`: weight of the transition costs against the emission costs;
+///   `mu`: weight of the finger pairs; `gamma_string`, `gamma_position`: rewards for a
+///   place whose hand frame also covers the neighbouring notes (violinists choose a
+///   position for a group of notes, not note by note).
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct LearnedParams {
     /// Pseudo-counts of the emission back-off.
@@ -40,6 +43,11 @@ pub struct LearnedParams {
     pub lambda: f64,
     /// Weight of the finger-to-finger costs.
     pub mu: f64,
+    /// Reward per neighbouring note (within [`crate::learned::WINDOW`] notes) that the
+    /// same string in the same position also plays.
+    pub gamma_string: f64,
+    /// Reward per neighbouring note that the same position plays on any string.
+    pub gamma_position: f64,
     /// Where each pitch was played.
     pub emission: BTreeMap<(u8, u8, Fingering), u32>,
     /// String and position steps per interval class.
@@ -69,7 +77,8 @@ impl LearnedParams {
         LearnedParams::from_tsv(LEARNED_PARAMS_TSV)
     }
 
-    /// Writes the parameters as TSV: `#` lines, then `hyper alpha beta lambda mu`,
+    /// Writes the parameters as TSV: `#` lines, then `hyper alpha beta lambda mu
+    /// gamma_string gamma_position`,
     /// `e pitch context string position finger placement count`, `t interval dstring dposition
     /// count` and `f interval finger_from finger_to count` rows.
     pub fn to_tsv(&self) -> String {
@@ -79,8 +88,8 @@ impl LearnedParams {
         }
         let _ = writeln!(
             out,
-            "hyper\t{}\t{}\t{}\t{}",
-            self.alpha, self.beta, self.lambda, self.mu
+            "hyper\t{}\t{}\t{}\t{}\t{}\t{}",
+            self.alpha, self.beta, self.lambda, self.mu, self.gamma_string, self.gamma_position
         );
         for ((pitch, ctx, f), n) in &self.emission {
             let _ = writeln!(
@@ -126,11 +135,12 @@ impl LearnedParams {
                     .collect::<Result<_, _>>()
                     .map_err(|e| err(format!("hyper: {e}")))?;
                 match v[..] {
-                    [a, b, l, m] if v.iter().all(|x| x.is_finite() && *x >= 0.0) => {
+                    [a, b, l, m, gs, gp] if v.iter().all(|x| x.is_finite() && *x >= 0.0) => {
                         (params.alpha, params.beta, params.lambda, params.mu) = (a, b, l, m);
+                        (params.gamma_string, params.gamma_position) = (gs, gp);
                         has_hyper = true;
                     }
-                    _ => return Err(err("hyper needs 4 finite values ≥ 0".into())),
+                    _ => return Err(err("hyper needs 6 finite values ≥ 0".into())),
                 }
                 continue;
             }
@@ -202,6 +212,8 @@ mod tests {
             beta: 10.0,
             lambda: 1.5,
             mu: 0.5,
+            gamma_string: 0.25,
+            gamma_position: 0.5,
             notes: vec!["made by a test".into()],
             ..LearnedParams::default()
         };
@@ -212,9 +224,9 @@ mod tests {
         let back = LearnedParams::from_tsv(&p.to_tsv()).unwrap();
         assert_eq!(back, p);
         assert!(LearnedParams::from_tsv("e\t71\t3\t1\t1\t0\t7\n").is_err()); // no hyper
-        let wrong_pitch = "hyper\t1\t1\t1\t1\ne\t72\t0\t3\t1\t1\t0\t7\n";
+        let wrong_pitch = "hyper\t1\t1\t1\t1\t0\t0\ne\t72\t0\t3\t1\t1\t0\t7\n";
         assert!(LearnedParams::from_tsv(wrong_pitch).is_err());
-        assert!(LearnedParams::from_tsv("hyper\t1\t1\tx\t1\n").is_err());
+        assert!(LearnedParams::from_tsv("hyper\t1\t1\tx\t1\t0\t0\n").is_err());
     }
 
     #[test]

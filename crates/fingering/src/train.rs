@@ -178,13 +178,17 @@ fn align(name: String, by_violinist: BTreeMap<u32, Vec<Row>>) -> Piece {
     }
 }
 
-/// Counts the pieces' fingerings into parameters with the given smoothing and weights.
-pub fn fit(pieces: &[&Piece], alpha: f64, beta: f64, lambda: f64, mu: f64) -> LearnedParams {
+/// Counts the pieces' fingerings into parameters with the given smoothing and weights
+/// `[alpha, beta, lambda, mu, gamma_string, gamma_position]` (see [`LearnedParams`]).
+pub fn fit(pieces: &[&Piece], h: [f64; 6]) -> LearnedParams {
+    let [alpha, beta, lambda, mu, gamma_string, gamma_position] = h;
     let mut p = LearnedParams {
         alpha,
         beta,
         lambda,
         mu,
+        gamma_string,
+        gamma_position,
         ..LearnedParams::default()
     };
     let names: Vec<&str> = pieces.iter().map(|p| p.name.as_str()).collect();
