@@ -169,12 +169,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         return Ok(());
     }
     let mut grid = Vec::new();
-    for alpha in [5.0] {
-        for beta in [200.0] {
-            for lambda in [1.5, 2.0, 3.0] {
+    for alpha in [1.0, 5.0, 20.0] {
+        for beta in [50.0, 200.0] {
+            for lambda in [1.0, 1.5, 2.0, 3.0] {
                 for mu in [0.5, 2.0] {
-                    for gs in [0.0, 0.1, 0.25] {
-                        for gp in [0.0, 0.1, 0.25] {
+                    for gs in [0.0, 0.25, 0.5] {
+                        for gp in [0.0, 0.25, 0.5] {
                             grid.push([alpha, beta, lambda, mu, gs, gp]);
                         }
                     }
