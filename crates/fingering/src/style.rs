@@ -52,10 +52,10 @@ pub struct FingeringStyle {
 }
 
 impl FingeringStyle {
-    /// Open strings cost as much as a shift: used only where nothing else fits.
+    /// Open strings only where nothing else plays the note (a cost far above any shift).
     pub fn avoid_open_strings() -> FingeringStyle {
         FingeringStyle {
-            open_string: 2.0,
+            open_string: 20.0,
             ..FingeringStyle::default()
         }
     }
@@ -79,7 +79,7 @@ impl FingeringStyle {
     /// Play higher on the neck (fewer string crossings, a darker sound).
     pub fn high_positions() -> FingeringStyle {
         FingeringStyle {
-            position: -0.4,
+            position: -1.0,
             ..FingeringStyle::default()
         }
     }
