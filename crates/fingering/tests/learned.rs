@@ -86,10 +86,10 @@ fn style_knobs_change_the_plan_the_way_they_say() {
     assert!(sul[..8].iter().all(|f| f.string == ViolinString::G), "{sul:?}");
     // The optimal planner takes the same knobs.
     let optimal = OptimalPlanner::default()
-        .with_style(FingeringStyle::default().sul(ViolinString::D, 0..15))
+        .with_style(FingeringStyle::default().sul(ViolinString::D, 0..14))
         .plan(&notes)
         .unwrap();
-    assert!(optimal[..15].iter().all(|f| f.string == ViolinString::D));
+    assert!(optimal[..14].iter().all(|f| f.string == ViolinString::D));
     let optimal_avoid = OptimalPlanner::default()
         .with_style(FingeringStyle::avoid_open_strings())
         .plan(&notes)
