@@ -153,7 +153,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let ok = labels.iter().flatten().any(|l| l.same_string_position(f));
             let l: Vec<String> = labels
                 .iter()
-                .map(|l| l.map_or("-".into(), |l| format!("{}{}{}", l.string, l.position, l.finger)))
+                .map(|l| {
+                    l.map_or("-".into(), |l| {
+                        format!("{}{}{}", l.string, l.position, l.finger)
+                    })
+                })
                 .collect();
             println!(
                 "{i:4} {:3} {}{}{}{:?} {} {}",
@@ -210,7 +214,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if let Some(path) = write {
         let params: LearnedParams = fit(&train, h);
         std::fs::write(&path, params.to_tsv())?;
-        println!("\nparameters fitted on all {} training pieces written to {}", train.len(), path.display());
+        println!(
+            "\nparameters fitted on all {} training pieces written to {}",
+            train.len(),
+            path.display()
+        );
     }
     Ok(())
 }

@@ -60,8 +60,7 @@ pub fn learned_places(midi: u8) -> Vec<Fingering> {
 
 /// The interval class of a step from `from` to `to` (MIDI).
 pub(crate) fn interval_class(from: u8, to: u8) -> i8 {
-    (i16::from(to) - i16::from(from)).clamp(-i16::from(MAX_INTERVAL), i16::from(MAX_INTERVAL))
-        as i8
+    (i16::from(to) - i16::from(from)).clamp(-i16::from(MAX_INTERVAL), i16::from(MAX_INTERVAL)) as i8
 }
 
 /// String and position steps between two places, clamped to the counted classes.
@@ -163,11 +162,17 @@ impl Tables {
         // Emission back-off: how often (finger, placement, position) is used at all.
         let mut shape: BTreeMap<(u8, Placement, u8), f64> = BTreeMap::new();
         for ((_, _, f), &n) in &p.emission {
-            *shape.entry((f.finger, f.placement, f.position)).or_default() += f64::from(n);
+            *shape
+                .entry((f.finger, f.placement, f.position))
+                .or_default() += f64::from(n);
         }
         let mut ctx_counts: BTreeMap<(u8, Fingering), [f64; CONTEXTS]> = BTreeMap::new();
         for (&(midi, ctx, f), &n) in &p.emission {
-            if let Some(c) = ctx_counts.entry((midi, f)).or_insert([0.0; CONTEXTS]).get_mut(usize::from(ctx)) {
+            if let Some(c) = ctx_counts
+                .entry((midi, f))
+                .or_insert([0.0; CONTEXTS])
+                .get_mut(usize::from(ctx))
+            {
                 *c += f64::from(n);
             }
         }
@@ -177,12 +182,21 @@ impl Tables {
             let list = learned_places(midi);
             let g: Vec<f64> = list
                 .iter()
-                .map(|f| 1.0 + shape.get(&(f.finger, f.placement, f.position)).unwrap_or(&0.0))
+                .map(|f| {
+                    1.0 + shape
+                        .get(&(f.finger, f.placement, f.position))
+                        .unwrap_or(&0.0)
+                })
                 .collect();
             let g_total: f64 = g.iter().sum();
             let counts: Vec<[f64; CONTEXTS]> = list
                 .iter()
-                .map(|f| ctx_counts.get(&(midi, *f)).copied().unwrap_or([0.0; CONTEXTS]))
+                .map(|f| {
+                    ctx_counts
+                        .get(&(midi, *f))
+                        .copied()
+                        .unwrap_or([0.0; CONTEXTS])
+                })
                 .collect();
             let n_place: Vec<f64> = counts.iter().map(|c| c.iter().sum()).collect();
             let n: f64 = n_place.iter().sum();
@@ -352,21 +366,16 @@ impl FingeringPlanner for LearnedPlanner {
             let places = self.places(note);
             let ctx = context(midi, i);
             own.clear();
-            own.extend(
-                places
-                    .iter()
-                    .zip(self.emission(note, ctx))
-                    .map(|(f, e)| {
-                        let (same, any) = if self.tables.gamma_string + self.tables.gamma_position > 0.0 {
-                            coverage(midi, i, f)
-                        } else {
-                            (0.0, 0.0)
-                        };
-                        e + self.style.place_cost(i, f, places)
-                            - self.tables.gamma_string * same
-                            - self.tables.gamma_position * any
-                    }),
-            );
+            own.extend(places.iter().zip(self.emission(note, ctx)).map(|(f, e)| {
+                let (same, any) = if self.tables.gamma_string + self.tables.gamma_position > 0.0 {
+                    coverage(midi, i, f)
+                } else {
+                    (0.0, 0.0)
+                };
+                e + self.style.place_cost(i, f, places)
+                    - self.tables.gamma_string * same
+                    - self.tables.gamma_position * any
+            }));
             next.clear();
             let mut from = Vec::with_capacity(places.len());
             match i.checked_sub(1).and_then(|j| midi.get(j)) {

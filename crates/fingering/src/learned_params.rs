@@ -115,7 +115,10 @@ impl LearnedParams {
         let mut params = LearnedParams::default();
         let mut has_hyper = false;
         for (i, line) in text.lines().enumerate() {
-            let err = |reason: String| FingeringError::InvalidTable { line: i + 1, reason };
+            let err = |reason: String| FingeringError::InvalidTable {
+                line: i + 1,
+                reason,
+            };
             let line = line.trim();
             if let Some(note) = line.strip_prefix('#') {
                 params.notes.push(note.trim().to_string());
@@ -165,8 +168,7 @@ impl LearnedParams {
                     {
                         return Err(err("pitch, position or finger out of range".into()));
                     }
-                    let place =
-                        Fingering::with_placement(string, pos as u8, f as u8, placement);
+                    let place = Fingering::with_placement(string, pos as u8, f as u8, placement);
                     if place.midi() != pitch as u8 {
                         return Err(err(format!("place does not play MIDI {pitch}")));
                     }
@@ -174,7 +176,9 @@ impl LearnedParams {
                         .emission
                         .insert((pitch as u8, ctx as u8, place), count(n, &err)?);
                 }
-                ("t", &[iv, s, p, n]) if small(iv, -13, 13) && small(s, -3, 3) && small(p, -7, 7) => {
+                ("t", &[iv, s, p, n])
+                    if small(iv, -13, 13) && small(s, -3, 3) && small(p, -7, 7) =>
+                {
                     params
                         .transition
                         .insert((iv as i8, s as i8, p as i8), count(n, &err)?);

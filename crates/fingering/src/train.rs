@@ -98,7 +98,11 @@ fn read_csv(path: &Path) -> Result<Vec<Row>, FingeringError> {
             if (0.0..=127.0).contains(&v) {
                 Ok(v as u8)
             } else {
-                Err(err(format!("line {}: column {} out of range", i + 1, k + 1)))
+                Err(err(format!(
+                    "line {}: column {} out of range",
+                    i + 1,
+                    k + 1
+                )))
             }
         };
         let label = Label {
@@ -205,7 +209,9 @@ pub fn fit(pieces: &[&Piece], h: [f64; 6]) -> LearnedParams {
             for (i, &(midi, label)) in seq.iter().enumerate() {
                 let place = label.to_fingering(midi);
                 if let Some(f) = place {
-                    *p.emission.entry((midi, context(&pitches, i), f)).or_default() += 1;
+                    *p.emission
+                        .entry((midi, context(&pitches, i), f))
+                        .or_default() += 1;
                     if let Some((pm, pf)) = previous {
                         let iv = interval_class(pm, midi);
                         let (ds, dp) = steps(&pf, &f);
@@ -247,7 +253,11 @@ impl Agreement {
     /// (string, string+position, any) as shares of the notes.
     pub fn shares(&self) -> (f64, f64, f64) {
         let n = self.notes.max(1) as f64;
-        (self.string / n, self.string_position / n, self.any as f64 / n)
+        (
+            self.string / n,
+            self.string_position / n,
+            self.any as f64 / n,
+        )
     }
 }
 

@@ -83,7 +83,10 @@ fn style_knobs_change_the_plan_the_way_they_say() {
         .with_style(FingeringStyle::default().sul(ViolinString::G, 0..8))
         .plan(&notes)
         .unwrap();
-    assert!(sul[..8].iter().all(|f| f.string == ViolinString::G), "{sul:?}");
+    assert!(
+        sul[..8].iter().all(|f| f.string == ViolinString::G),
+        "{sul:?}"
+    );
     // The optimal planner takes the same knobs.
     let optimal = OptimalPlanner::default()
         .with_style(FingeringStyle::default().sul(ViolinString::D, 0..14))
@@ -104,7 +107,10 @@ fn shipped_parameters_name_their_source_and_pieces() {
     assert!(text.contains("Chen et al., IUI 2021"));
     assert!(text.contains("Tsung-Ping/Violin-Fingering-Generation"));
     for reserved in ["bach1", "bach2", "flower", "mend1"] {
-        assert!(!text.contains(reserved), "{reserved} must not be used for training");
+        assert!(
+            !text.contains(reserved),
+            "{reserved} must not be used for training"
+        );
     }
 }
 
@@ -117,4 +123,3 @@ fn ten_thousand_notes_plan_quickly() {
     // Generous for debug builds on a shared machine; release takes a few ms per 1000 notes.
     assert!(t.elapsed().as_secs_f64() < 30.0);
 }
-

@@ -39,10 +39,16 @@ const ON_BEAT_S: f64 = 0.05;
 ///    the bar starts down;
 /// 3. after a rest of at least [`RETAKE_REST_S`] (no note sounding), a stroke that starts
 ///    on a downbeat is a down-bow (the player lifts the bow and retakes it at the frog).
-pub fn bow_directions(bow_changes_s: &[f64], notes: &[Note], downbeats_s: &[f64]) -> Vec<BowDirection> {
+pub fn bow_directions(
+    bow_changes_s: &[f64],
+    notes: &[Note],
+    downbeats_s: &[f64],
+) -> Vec<BowDirection> {
     let on_downbeat = |t: f64| {
         let i = downbeats_s.partition_point(|&d| d < t - ON_BEAT_S);
-        downbeats_s.get(i).is_some_and(|&d| (d - t).abs() <= ON_BEAT_S)
+        downbeats_s
+            .get(i)
+            .is_some_and(|&d| (d - t).abs() <= ON_BEAT_S)
     };
     // Latest offset of the notes that start before t (notes sorted by onset).
     let mut sounding_until = Vec::with_capacity(notes.len());

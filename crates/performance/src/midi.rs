@@ -332,13 +332,10 @@ pub fn score_from_midi(bytes: &[u8], options: &MidiOptions) -> Result<MidiScore,
     }
     check_span(&out)?;
     let last_tick = notes.iter().map(|n| n.1).max().unwrap_or(0);
-    let grid = crate::midi_line::beat_grid(
-        &raw.signatures,
-        &notes,
-        ticks_per_quarter,
-        last_tick,
-        |t| map.seconds(t),
-    );
+    let grid =
+        crate::midi_line::beat_grid(&raw.signatures, &notes, ticks_per_quarter, last_tick, |t| {
+            map.seconds(t)
+        });
     let first_tick = notes.first().map_or(0, |n| n.0);
     let duration_s = out.iter().map(|n| n.offset_s).fold(0.0, f64::max) + TAIL_S;
     Ok(MidiScore {

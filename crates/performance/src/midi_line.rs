@@ -98,7 +98,9 @@ pub(crate) fn beat_grid(
     };
     let (mut beats_s, mut downbeats_s) = (Vec::new(), Vec::new());
     for (i, &(tick, num, den)) in dedup.iter().enumerate() {
-        let end = dedup.get(i + 1).map_or(last_tick as f64 + 1e-9, |n| n.0 as f64 - 1e-9);
+        let end = dedup
+            .get(i + 1)
+            .map_or(last_tick as f64 + 1e-9, |n| n.0 as f64 - 1e-9);
         let (beat_ticks, bpb, _) = beat_of(num, den, tpq);
         let bpb = u64::from(bpb.max(1));
         let phase = if i == 0 { phase % bpb } else { 0 };

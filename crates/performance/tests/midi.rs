@@ -160,7 +160,15 @@ fn bad_files_are_refused_with_the_reason() {
     refused(&drums, "only percussion");
     let low = smf(480, &[(0, on(43, 80)), (480, off(43))]);
     refused(&low, "MIDI 43 at 0.00 s");
-    let high = smf(480, &[(0, on(69, 80)), (480, off(69)), (0, on(110, 80)), (480, off(110))]);
+    let high = smf(
+        480,
+        &[
+            (0, on(69, 80)),
+            (480, off(69)),
+            (0, on(110, 80)),
+            (480, off(110)),
+        ],
+    );
     refused(&high, "1 note(s) outside the violin's range");
     refused(&smf(0, &[(0, on(69, 80)), (480, off(69))]), "division");
     let fast = smf(480, &[(0, tempo(1)), (0, on(69, 80)), (480, off(69))]);
@@ -168,13 +176,20 @@ fn bad_files_are_refused_with_the_reason() {
     // Hours of silence: a note after 2^27 ticks at 2 s per quarter.
     let silent = smf(
         1,
-        &[(0, on(69, 80)), (1, off(69)), (0x0fff_ffff, on(71, 80)), (1, off(71))],
+        &[
+            (0, on(69, 80)),
+            (1, off(69)),
+            (0x0fff_ffff, on(71, 80)),
+            (1, off(71)),
+        ],
     );
     refused(&silent, "silence");
     // A delta time whose continuation bits never end.
     let corrupt = smf_raw(
         480,
-        vec![0x00, 0x90, 69, 80, 0xff, 0xff, 0xff, 0xff, 0xff, 0x80, 69, 0, 0x00, 0xff, 0x2f, 0x00],
+        vec![
+            0x00, 0x90, 69, 80, 0xff, 0xff, 0xff, 0xff, 0xff, 0x80, 69, 0, 0x00, 0xff, 0x2f, 0x00,
+        ],
     );
     refused(&corrupt, "not a valid Standard MIDI File");
     // Truncated.
@@ -185,22 +200,38 @@ fn bad_files_are_refused_with_the_reason() {
 
 #[test]
 fn out_of_range_notes_move_by_octaves_only_when_asked() {
-    let low = smf(480, &[(0, on(43, 80)), (480, off(43)), (0, on(112, 80)), (480, off(112))]);
+    let low = smf(
+        480,
+        &[
+            (0, on(43, 80)),
+            (480, off(43)),
+            (0, on(112, 80)),
+            (480, off(112)),
+        ],
+    );
     let opts = MidiOptions {
         transpose_into_range: true,
     };
     let score = score_from_midi(&low, &opts).unwrap();
-    assert_eq!(score.notes.iter().map(|n| n.midi).collect::<Vec<_>>(), vec![55, 100]);
+    assert_eq!(
+        score.notes.iter().map(|n| n.midi).collect::<Vec<_>>(),
+        vec![55, 100]
+    );
     assert_eq!(score.transposed, 2);
 }
 
 #[test]
 fn file_errors_name_the_file() {
-    let e = timeline_from_midi_file("/no/such.mid").unwrap_err().to_string();
+    let e = timeline_from_midi_file("/no/such.mid")
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("/no/such.mid"), "{e}");
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("empty.mid");
     std::fs::write(&path, smf(480, &[])).unwrap();
     let e = timeline_from_midi_file(&path).unwrap_err().to_string();
-    assert!(e.starts_with(&path.display().to_string()) && e.contains("no notes"), "{e}");
+    assert!(
+        e.starts_with(&path.display().to_string()) && e.contains("no notes"),
+        "{e}"
+    );
 }
