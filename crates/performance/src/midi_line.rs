@@ -21,7 +21,7 @@ pub(crate) struct Grid {
 
 /// (beat length in ticks, beats per bar, subdivisions) of a time signature.
 fn beat_of(num: u32, den: u32, ticks_per_quarter: f64) -> (f64, u32, u8) {
-    let compound = den == 8 && num % 3 == 0 && num > 3;
+    let compound = den == 8 && num.is_multiple_of(3) && num > 3;
     if compound {
         (1.5 * ticks_per_quarter, num / 3, 3)
     } else {
