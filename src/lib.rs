@@ -24,7 +24,10 @@
 
 mod chunking;
 mod error;
+mod fingering_plan;
 mod long_audio;
+#[cfg(feature = "midi")]
+mod midi_analysis;
 mod models;
 pub mod networks;
 mod pipeline;
@@ -32,8 +35,13 @@ mod pipeline;
 pub use chunking::Chunking;
 pub use error::{Error, Result};
 pub use performance::{Analysis, ArousalCurve, F0Track, Note};
+pub use fingering::{FingeringStyle, ViolinString};
+pub use fingering_plan::{PlannerKind, SulSpan};
+pub use performance::{BowDirection, Meter};
+#[cfg(feature = "midi")]
+pub use midi_analysis::MIDI_F0_HOP_S;
 pub use pipeline::{
-    Method, Pipeline, PipelineBuilder, PlannerKind, StageTimings, BOW_CHANGE_ONSET_LEAD_S,
+    Method, Pipeline, PipelineBuilder, StageTimings, BOW_CHANGE_ONSET_LEAD_S,
     BOW_CHANGE_SPLIT_MIN_PART_S, MIN_DURATION_S,
 };
 

@@ -194,6 +194,7 @@ impl Pipeline {
             values: Vec::new(),
         };
         let mut tempi: Vec<(f64, f64)> = Vec::new();
+        let mut meter = None;
         let (duration_s, decode_s) = for_each_chunk(&mut reader, self.chunking(), |chunk| {
             let (a, t) = self
                 .analyze_timed(&chunk.audio)
@@ -214,21 +215,27 @@ impl Pipeline {
             take_events(&a.beats_s, &chunk, &mut beats_s);
             take_events(&a.downbeats_s, &chunk, &mut downbeats_s);
             tempi.push((a.tempo_bpm, chunk.core_end_s - chunk.core_start_s));
+            meter = meter.or(a.meter);
             progress(chunk.core_end_s, total_s);
             Ok(())
         })?;
         drop_crowded(&mut beats_s, 0.5);
         drop_crowded(&mut downbeats_s, 0.5);
         timings.decode_s = decode_s;
+        let bow_directions = performance::bow_directions(&bow_changes_s, &notes, &downbeats_s);
         let analysis = Analysis {
+            schema_version: performance::ANALYSIS_SCHEMA_VERSION,
+            source: "audio".into(),
             duration_s,
             sample_rate: rate,
             f0,
             notes,
             bow_changes_s,
+            bow_directions,
             beats_s,
             downbeats_s,
             tempo_bpm: weighted_median(&mut tempi),
+            meter,
             arousal,
         };
         Ok((analysis, timings))

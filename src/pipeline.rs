@@ -5,9 +5,9 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use dsp_mel::{resample, Audio, DEFAULT_ANALYSIS_RATE_HZ};
-use fingering::{Fingering, FingeringPlanner, FingeringTable, GreedyPlanner, OptimalPlanner};
+use fingering::{Fingering, FingeringStyle, ViolinString};
 use motion_synth::{synthesize, Camera, SynthConfig};
-use performance::{Analysis, ArousalCurve, Note, Performance};
+use performance::{bow_directions, Analysis, ArousalCurve, Note, Performance};
 use pitch_track::{
     segment_notes, split_notes_at, start_notes_at, NoteConfig, PitchConfig, PitchTracker,
 };
@@ -15,6 +15,7 @@ use skeleton::Motion;
 
 use crate::chunking::Chunking;
 use crate::error::{Error, Result};
+use crate::fingering_plan::{plan_notes, PlannerKind, SulSpan};
 use crate::models::LoadedModels;
 use crate::networks;
 
@@ -27,17 +28,6 @@ pub enum Method {
     /// Method 1: the GRU baseline maps mel frames straight to joints (feature `gru`).
     #[cfg(feature = "gru")]
     Gru,
-}
-
-/// Which fingering planner places the notes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum PlannerKind {
-    /// The original design's greedy rule (on the physical fingerboard model, so every pitch
-    /// G3..A7 gets a place).
-    Greedy,
-    /// Viterbi over all places (default).
-    #[default]
-    Optimal,
 }
 
 /// The shortest recording the pipeline makes motion for, in seconds (one bow stroke);
@@ -123,6 +113,9 @@ impl std::fmt::Display for StageTimings {
 pub struct Pipeline {
     method: Method,
     planner: PlannerKind,
+    style: FingeringStyle,
+    sul: Vec<SulSpan>,
+    transpose_into_range: bool,
     synth: SynthConfig,
     bowing_weights: Option<PathBuf>,
     emotion_weights: Option<PathBuf>,
@@ -147,6 +140,32 @@ impl PipelineBuilder {
     /// The fingering planner.
     pub fn planner(mut self, planner: PlannerKind) -> Self {
         self.inner.planner = planner;
+        self
+    }
+
+    /// Style knobs of the optimal and learned planners: open strings, low or high
+    /// positions ([`FingeringStyle`]; its `sul` passages count notes — use
+    /// [`PipelineBuilder::sul`] for passages in seconds). The greedy rule has no knobs.
+    pub fn fingering_style(mut self, style: FingeringStyle) -> Self {
+        self.inner.style = style;
+        self
+    }
+
+    /// Keeps the notes starting in `[from_s, to_s)` on `string` wherever it can play them
+    /// (*sul G* etc.; optimal and learned planners).
+    pub fn sul(mut self, string: ViolinString, from_s: f64, to_s: f64) -> Self {
+        self.inner.sul.push(SulSpan {
+            string,
+            from_s,
+            to_s,
+        });
+        self
+    }
+
+    /// MIDI input: move notes outside G3..A7 by octaves into the range instead of refusing
+    /// the file.
+    pub fn transpose_into_range(mut self, yes: bool) -> Self {
+        self.inner.transpose_into_range = yes;
         self
     }
 
@@ -216,25 +235,18 @@ impl Pipeline {
         self.chunking
     }
 
-    fn plan(&self, midi: &[u8]) -> Vec<Option<Fingering>> {
-        let table = match self.planner {
-            PlannerKind::Greedy => FingeringTable::physical(),
-            PlannerKind::Optimal => FingeringTable::physical(),
-        };
-        let playable: Vec<usize> = (0..midi.len())
-            .filter(|&i| !table.places(midi[i]).is_empty())
-            .collect();
-        let pitches: Vec<u8> = playable.iter().map(|&i| midi[i]).collect();
-        let plan = match self.planner {
-            PlannerKind::Greedy => GreedyPlanner::new(table).plan(&pitches),
-            PlannerKind::Optimal => OptimalPlanner::default().plan(&pitches),
+    /// One place per note (`None` where no violin place plays it), double stops on
+    /// neighbouring strings.
+    pub fn plan(&self, notes: &[Note]) -> Vec<Option<Fingering>> {
+        plan_notes(self.planner, &self.style, &self.sul, notes)
+    }
+
+    /// The MIDI reading options.
+    #[cfg(feature = "midi")]
+    pub(crate) fn midi_options(&self) -> performance::midi::MidiOptions {
+        performance::midi::MidiOptions {
+            transpose_into_range: self.transpose_into_range,
         }
-        .unwrap_or_default();
-        let mut out = vec![None; midi.len()];
-        for (&i, f) in playable.iter().zip(plan) {
-            out[i] = Some(f);
-        }
-        out
     }
 
     /// Analyses a recording: f0 and notes (pYIN-class tracker), fingering, beats, downbeats
@@ -295,22 +307,26 @@ impl Pipeline {
         // too soft for the pitch path or the onset novelty.
         let notes = split_notes_at(&notes, &bow_changes_s, BOW_CHANGE_SPLIT_MIN_PART_S);
         let notes = start_notes_at(&notes, &bow_changes_s, BOW_CHANGE_ONSET_LEAD_S);
-        let midi: Vec<u8> = notes.iter().map(|n| n.midi).collect();
-        let places = self.plan(&midi);
+        let places = self.plan(&notes);
         let analyzed_notes: Vec<Note> = notes
             .iter()
             .zip(places)
             .map(|(n, f)| Note { fingering: f, ..*n })
             .collect();
+        let bow_directions = bow_directions(&bow_changes_s, &analyzed_notes, &beats.downbeats_s);
         let analysis = Analysis {
+            schema_version: performance::ANALYSIS_SCHEMA_VERSION,
+            source: "audio".into(),
             duration_s: audio.duration_s(),
             sample_rate: audio.sample_rate_hz(),
             f0: track.to_f0_track(),
             notes: analyzed_notes,
             bow_changes_s,
+            bow_directions,
             beats_s: beats.beats_s,
             downbeats_s: beats.downbeats_s,
             tempo_bpm: beats.tempo_bpm,
+            meter: Some(beats.meter),
             arousal: ArousalCurve::deam(arousal),
         };
         Ok((analysis, timings))
@@ -329,8 +345,7 @@ impl Pipeline {
         if analysis.notes.is_empty() {
             return Err(Error::NoNotes("the recording".into()));
         }
-        let midi: Vec<u8> = analysis.notes.iter().map(|n| n.midi).collect();
-        let planned = self.plan(&midi);
+        let planned = self.plan(&analysis.notes);
         // Frame-centred analysis can put the last offset a hop past the end of the audio;
         // the performance covers exactly [0, duration].
         let duration_s = analysis.duration_s;
@@ -345,8 +360,8 @@ impl Pipeline {
                 Note {
                     onset_s,
                     offset_s,
-                    midi: n.midi,
                     fingering: n.fingering.or(planned),
+                    ..*n
                 }
             })
             .collect();
@@ -413,12 +428,13 @@ impl Pipeline {
         Ok(synthesize(&perf, &self.synth)?)
     }
 
-    /// The [`Performance`] of a MIDI file.
+    /// The [`Performance`] of a MIDI file (its melodic line; see `performance::midi`).
     #[cfg(feature = "midi")]
     pub fn performance_from_midi(&self, path: impl AsRef<std::path::Path>) -> Result<Performance> {
-        let mut timeline = performance::midi::timeline_from_midi_file(path)?;
-        let midi: Vec<u8> = timeline.notes.iter().map(|n| n.note.midi).collect();
-        for (n, f) in timeline.notes.iter_mut().zip(self.plan(&midi)) {
+        let mut timeline =
+            performance::midi::timeline_from_midi_file_with(path, &self.midi_options())?;
+        let notes: Vec<Note> = timeline.notes.iter().map(|n| n.note).collect();
+        for (n, f) in timeline.notes.iter_mut().zip(self.plan(&notes)) {
             n.note.fingering = f;
         }
         Ok(timeline.to_performance()?)

@@ -7,7 +7,8 @@ use clap::{Args, ValueEnum};
 use violin_train::evaluate::{evaluate_dir, SplitChoice};
 
 use crate::error::CliError;
-use crate::generate::{pipeline_for, MethodArg, NetworkWeights, PlannerArg};
+use crate::fingering_args::{FingeringArgs, PlannerArg};
+use crate::generate::{pipeline_for, MethodArg, NetworkWeights};
 use crate::output::write_atomically;
 use crate::Reporter;
 
@@ -57,7 +58,11 @@ pub fn run(args: &EvaluateArgs, report: &Reporter) -> Result<(), CliError> {
             "--limit 0: evaluate at least one recording".into(),
         ));
     }
-    let pipeline = pipeline_for(args.method, PlannerArg::Optimal, &args.weights);
+    let fingering = FingeringArgs {
+        planner: PlannerArg::Optimal,
+        ..FingeringArgs::default()
+    };
+    let pipeline = pipeline_for(args.method, &fingering, &args.weights);
     let split = match args.split {
         SplitArg::Test => SplitChoice::Test,
         SplitArg::Val => SplitChoice::Val,

@@ -9,9 +9,10 @@ use violin_skeleton::skeleton::PoseLayout;
 use violin_skeleton::skeleton_render::{
     audio_mime, write_gif_file, write_html_player_file, RenderConfig,
 };
-use violin_skeleton::{Method, Motion, MotionFormat, Pipeline, PipelineBuilder, PlannerKind};
+use violin_skeleton::{Method, Motion, MotionFormat, Pipeline, PipelineBuilder};
 
 use crate::error::CliError;
+use crate::fingering_args::FingeringArgs;
 use crate::Reporter;
 
 /// Motion file formats.
@@ -57,15 +58,6 @@ pub enum MethodArg {
     Gru,
 }
 
-/// Fingering planner.
-#[derive(Debug, Clone, Copy, ValueEnum)]
-pub enum PlannerArg {
-    /// The original greedy rule.
-    Greedy,
-    /// Viterbi over all places (default).
-    Optimal,
-}
-
 /// Arguments of `generate`.
 #[derive(Debug, Args)]
 #[command(
@@ -83,9 +75,9 @@ pub struct GenerateArgs {
     /// Motion method.
     #[arg(long, value_enum, default_value_t = MethodArg::Rules)]
     pub method: MethodArg,
-    /// Fingering planner.
-    #[arg(long, value_enum, default_value_t = PlannerArg::Optimal)]
-    pub planner: PlannerArg,
+    /// Fingering planner and style.
+    #[command(flatten)]
+    pub fingering: FingeringArgs,
     /// Also write a preview: `.gif` or `.html` (player with the audio embedded).
     #[arg(long)]
     pub preview: Option<PathBuf>,
@@ -97,7 +89,8 @@ pub struct GenerateArgs {
     pub weights: NetworkWeights,
 }
 
-fn is_midi(path: &Path) -> bool {
+/// `true` for a `.mid` or `.midi` file name.
+pub fn is_midi(path: &Path) -> bool {
     path.extension().is_some_and(|e| {
         matches!(
             e.to_string_lossy().to_ascii_lowercase().as_str(),
@@ -191,17 +184,16 @@ impl AnalysisWeights {
     }
 }
 
-/// The pipeline the method, planner and weight flags describe.
-pub fn pipeline_for(method: MethodArg, planner: PlannerArg, weights: &NetworkWeights) -> Pipeline {
-    let mut builder = Pipeline::builder()
-        .method(match method {
-            MethodArg::Rules => Method::Rules,
-            MethodArg::Gru => Method::Gru,
-        })
-        .planner(match planner {
-            PlannerArg::Greedy => PlannerKind::Greedy,
-            PlannerArg::Optimal => PlannerKind::Optimal,
-        });
+/// The pipeline the method, fingering and weight flags describe.
+pub fn pipeline_for(
+    method: MethodArg,
+    fingering: &FingeringArgs,
+    weights: &NetworkWeights,
+) -> Pipeline {
+    let mut builder = fingering.apply(Pipeline::builder().method(match method {
+        MethodArg::Rules => Method::Rules,
+        MethodArg::Gru => Method::Gru,
+    }));
     builder = weights.analysis.apply(builder);
     if let Some(p) = &weights.gru_weights {
         builder = builder.gru_weights(p);
@@ -220,10 +212,18 @@ pub fn run(args: &GenerateArgs, report: &Reporter) -> Result<(), CliError> {
             )))
         }
     };
-    let pipeline = pipeline_for(args.method, args.planner, &args.weights);
+    let pipeline = pipeline_for(args.method, &args.fingering, &args.weights);
     let t0 = Instant::now();
     let mut timings_line = String::new();
     let (motion, summary) = if is_midi(&args.input) {
+        if let Some(p) = &args.analysis_out {
+            let analysis = pipeline
+                .analyze_midi_file(&args.input)
+                .map_err(|e| with_input(e, &args.input))?;
+            crate::output::write_atomically(p, |w| {
+                serde_json::to_writer(w, &analysis).map_err(|e| e.to_string())
+            })?;
+        }
         let perf = pipeline
             .performance_from_midi(&args.input)
             .map_err(|e| with_input(e, &args.input))?;
@@ -304,7 +304,7 @@ pub fn run(args: &GenerateArgs, report: &Reporter) -> Result<(), CliError> {
 }
 
 /// Names the input file in a "no notes" error.
-fn with_input(e: violin_skeleton::Error, input: &Path) -> CliError {
+pub fn with_input(e: violin_skeleton::Error, input: &Path) -> CliError {
     match e {
         violin_skeleton::Error::NoNotes(_) => {
             CliError::Pipeline(violin_skeleton::Error::NoNotes(input.display().to_string()))

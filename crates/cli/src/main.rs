@@ -9,6 +9,7 @@ mod demo;
 mod error;
 mod evaluate;
 mod features;
+mod fingering_args;
 mod generate;
 mod output;
 mod pose_labels;
@@ -50,7 +51,7 @@ enum Command {
     Corpus(corpus_cmd::CorpusArgs),
     /// OpenPose JSON directory → cleaned 10-joint skeleton + bow-change frames (labels.json).
     PoseLabels(pose_labels::PoseLabelsArgs),
-    /// Analyse a recording: f0, notes with fingering, beats, downbeats and tempo (analysis.json).
+    /// Analyse a recording or MIDI file: f0, notes with fingering, bow changes, beats, downbeats, meter, arousal (analysis.json).
     Analyze(analyze::AnalyzeArgs),
     /// Draw a motion as an animated GIF, PNG frames or an HTML player with the audio.
     Render(render::RenderArgs),

@@ -22,4 +22,12 @@ pub enum FingeringError {
         /// What is wrong with the line.
         reason: String,
     },
+    /// A training dataset file or directory could not be read (feature `train`).
+    #[error("{path}: {reason}")]
+    Dataset {
+        /// The file or directory.
+        path: String,
+        /// What is wrong.
+        reason: String,
+    },
 }

@@ -11,6 +11,9 @@
 //!   move to the nearest position (original table by default).
 //! * [`OptimalPlanner`] — Viterbi over all places with tunable [`CostWeights`] for shifts,
 //!   string crossings, high positions and open strings (physical table by default).
+//! * [`LearnedPlanner`] — Viterbi over costs learned from ten violinists' fingerings (the
+//!   TNUA dataset; [`LearnedParams`], trained by the `train` feature's [`train`] module).
+//! * [`FingeringStyle`] — knobs for open strings, low or high positions and *sul* passages.
 //!
 //! A [`Fingering`] also tells where the left hand sits along the neck
 //! ([`Fingering::hand_offset_semitones`]) and which pitch it plays ([`Fingering::midi`]).
@@ -35,23 +38,31 @@ mod cost;
 mod error;
 mod fingering;
 mod greedy;
+mod learned;
+mod learned_params;
 mod optimal;
 pub mod physical;
 mod placement;
 mod places;
 mod planner;
 mod string;
+mod style;
 mod table;
+#[cfg(feature = "train")]
+pub mod train;
 
 pub use cost::CostWeights;
 pub use error::FingeringError;
 pub use fingering::Fingering;
 pub use greedy::GreedyPlanner;
+pub use learned::{context, learned_places, LearnedPlanner, CONTEXTS, LEARNED_MAX_POSITION};
+pub use learned_params::{LearnedParams, LEARNED_PARAMS_TSV};
 pub use optimal::OptimalPlanner;
 pub use placement::Placement;
 pub use places::places_for;
 pub use planner::FingeringPlanner;
 pub use string::ViolinString;
+pub use style::{FingeringStyle, SulPassage};
 pub use table::{FingeringTable, ORIGINAL_TABLE_TSV};
 
 /// The README's example, compiled and run as a doctest.

@@ -5,6 +5,7 @@ use crate::error::FingeringError;
 use crate::fingering::Fingering;
 use crate::planner::FingeringPlanner;
 use crate::string::ViolinString;
+use crate::style::FingeringStyle;
 use crate::table::FingeringTable;
 
 /// Chooses, among all places of every note, the plan of least total cost under
@@ -31,6 +32,7 @@ pub struct OptimalPlanner {
     /// The cost weights the plan minimises.
     pub weights: CostWeights,
     table: FingeringTable,
+    style: FingeringStyle,
 }
 
 impl Default for OptimalPlanner {
@@ -53,7 +55,17 @@ struct Candidate {
 impl OptimalPlanner {
     /// A planner over `table` minimising the cost under `weights`.
     pub fn new(table: FingeringTable, weights: CostWeights) -> OptimalPlanner {
-        OptimalPlanner { weights, table }
+        OptimalPlanner {
+            weights,
+            table,
+            style: FingeringStyle::default(),
+        }
+    }
+
+    /// The same planner with style knobs ([`FingeringStyle`], in [`CostWeights`] units).
+    pub fn with_style(mut self, style: FingeringStyle) -> OptimalPlanner {
+        self.style = style;
+        self
     }
 
     /// The physical table with the given weights.
@@ -67,7 +79,7 @@ impl OptimalPlanner {
     }
 
     /// Like [`FingeringPlanner::plan`], also returning the plan's total cost
-    /// ([`CostWeights::path_cost`]).
+    /// ([`CostWeights::path_cost`], without the style's costs).
     pub fn plan_with_cost(&self, midi: &[u8]) -> Result<(Vec<Fingering>, f64), FingeringError> {
         let mut total_places = 0usize;
         for (index, &note) in midi.iter().enumerate() {
@@ -88,8 +100,8 @@ impl OptimalPlanner {
         let mut score: Vec<f64> = Vec::with_capacity(k_max);
         let mut next_score: Vec<f64> = Vec::with_capacity(k_max);
 
-        for &note in midi {
-            self.candidates(self.table.places(note), &mut current);
+        for (index, &note) in midi.iter().enumerate() {
+            self.candidates(index, self.table.places(note), &mut current);
             next_score.clear();
             if previous.is_empty() {
                 next_score.extend(current.iter().map(|c| c.cost));
@@ -133,8 +145,8 @@ impl OptimalPlanner {
         Ok((plan, total))
     }
 
-    /// Fills `out` with the candidates of one note's `places`.
-    fn candidates(&self, places: &[Fingering], out: &mut Vec<Candidate>) {
+    /// Fills `out` with the candidates of note `index`'s `places`.
+    fn candidates(&self, index: usize, places: &[Fingering], out: &mut Vec<Candidate>) {
         let forbid_open = self.weights.forbid_open_strings && places.iter().any(|f| !f.is_open());
         out.clear();
         out.extend(places.iter().map(|f| Candidate {
@@ -143,8 +155,10 @@ impl OptimalPlanner {
             hand: f64::from(f.hand_offset_semitones()),
             cost: if forbid_open && f.is_open() {
                 f64::INFINITY
-            } else {
+            } else if self.style.is_neutral() {
                 self.weights.place_cost(f)
+            } else {
+                self.weights.place_cost(f) + self.style.place_cost(index, f, places)
             },
         }));
     }

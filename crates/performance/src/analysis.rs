@@ -4,7 +4,22 @@
 use serde::{Deserialize, Serialize};
 
 use crate::arousal::ArousalCurve;
+use crate::bowing::BowDirection;
+use crate::meter::Meter;
 use crate::note::Note;
+
+/// The `analysis.json` schema version this crate writes: 2 added `schema_version`,
+/// `source`, `meter`, `bow_directions` and the notes' `velocity` (files without
+/// `schema_version` are version 1 and still read).
+pub const ANALYSIS_SCHEMA_VERSION: u32 = 2;
+
+fn version_1() -> u32 {
+    1
+}
+
+fn audio() -> String {
+    "audio".into()
+}
 
 /// Frame-wise fundamental frequency (`pitch_track::PitchTrack` converts to and from it and
 /// resamples it to the skeleton's frame rate).
@@ -18,12 +33,18 @@ pub struct F0Track {
     pub voiced_prob: Vec<f32>,
 }
 
-/// Everything the analysis found in a recording.
+/// Everything the analysis found in a recording (or read from a MIDI file).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Analysis {
+    /// Schema version ([`ANALYSIS_SCHEMA_VERSION`]; 1 when the file has none).
+    #[serde(default = "version_1")]
+    pub schema_version: u32,
+    /// Where the analysis comes from: `"audio"` or `"midi"`.
+    #[serde(default = "audio")]
+    pub source: String,
     /// Length of the recording in seconds.
     pub duration_s: f64,
-    /// Sample rate of the input in Hz (the analysis runs at 22 050 Hz).
+    /// Sample rate of the input in Hz (the analysis runs at 22 050 Hz); 0 for MIDI input.
     pub sample_rate: u32,
     /// Fundamental frequency.
     pub f0: F0Track,
@@ -31,12 +52,19 @@ pub struct Analysis {
     pub notes: Vec<Note>,
     /// Bow changes in seconds.
     pub bow_changes_s: Vec<f64>,
+    /// The direction of the stroke each bow change starts (one per bow change; see
+    /// [`crate::bow_directions`]); empty in version-1 files.
+    #[serde(default)]
+    pub bow_directions: Vec<BowDirection>,
     /// Beats in seconds.
     pub beats_s: Vec<f64>,
     /// Downbeats in seconds.
     pub downbeats_s: Vec<f64>,
     /// Tempo in bpm.
     pub tempo_bpm: f64,
+    /// Beats per bar and subdivisions, when known.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub meter: Option<Meter>,
     /// Arousal at 2 Hz.
     pub arousal: ArousalCurve,
 }

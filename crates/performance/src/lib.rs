@@ -15,7 +15,9 @@
 //! * [`Meter`] — beats per bar and how a beat divides;
 //! * [`match_events`] / [`event_prf`] — the one event matcher (mir_eval's conventions) for
 //!   onsets, beats, downbeats and bow changes;
-//! * [`midi`] (feature `midi`) — Standard MIDI Files → [`Timeline`].
+//! * [`midi`] (feature `midi`) — Standard MIDI Files → [`midi::MidiScore`] (every note,
+//!   beats, bars) and [`Timeline`];
+//! * [`bow_directions`] — down- and up-bows from bow changes, notes and bars.
 //!
 //! ```
 //! use performance::{ArousalCurve, Performance};
@@ -34,11 +36,14 @@
 
 mod analysis;
 mod arousal;
+mod bowing;
 mod error;
 mod matching;
 mod meter;
 #[cfg(feature = "midi")]
 pub mod midi;
+#[cfg(feature = "midi")]
+mod midi_line;
 mod note;
 mod performance;
 mod stroke;
@@ -46,8 +51,9 @@ mod timeline;
 mod validate;
 
 pub use crate::performance::{Performance, PerformanceBuilder, PerformanceParts};
-pub use analysis::{Analysis, F0Track};
+pub use analysis::{Analysis, F0Track, ANALYSIS_SCHEMA_VERSION};
 pub use arousal::{arousal_proxy_of_spans, ArousalCurve};
+pub use bowing::{bow_directions, BowDirection, RETAKE_REST_S};
 #[cfg(feature = "midi")]
 pub use error::MidiError;
 pub use error::{PerformanceError, PerformanceFileError};

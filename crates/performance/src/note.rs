@@ -29,6 +29,9 @@ pub struct Note {
     pub midi: u8,
     /// Where the note is played, when known (see [`crate::Performance::with_fingering`]).
     pub fingering: Option<Fingering>,
+    /// MIDI velocity (1..=127) when the note comes from a MIDI file; `None` for notes
+    /// found in audio. JSON `"velocity"`, left out when `None`.
+    pub velocity: Option<u8>,
 }
 
 impl Note {
@@ -39,6 +42,7 @@ impl Note {
             offset_s,
             midi,
             fingering: None,
+            velocity: None,
         }
     }
 
@@ -62,6 +66,8 @@ pub(crate) struct NoteRecord {
     finger: Option<u8>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     placement: Option<Placement>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    velocity: Option<u8>,
 }
 
 impl TryFrom<NoteRecord> for Note {
@@ -83,6 +89,7 @@ impl TryFrom<NoteRecord> for Note {
             offset_s: r.offset_s,
             midi: r.midi,
             fingering,
+            velocity: r.velocity,
         })
     }
 }
@@ -98,6 +105,7 @@ impl From<Note> for NoteRecord {
             position: f.map(|f| f.position),
             finger: f.map(|f| f.finger),
             placement: f.map(|f| f.placement).filter(|p| !p.is_normal()),
+            velocity: n.velocity,
         }
     }
 }

@@ -1,0 +1,156 @@
+//! `violin-skeleton analyze X.mid` and `generate X.mid --analysis-out`: the analysis.json
+//! schema from a MIDI file, the fingering flags, and bad MIDI files refused with one line.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use std::path::Path;
+use std::process::Command;
+
+use serde_json::Value;
+
+fn cli() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_violin-skeleton"))
+}
+
+fn vlq(mut v: u32) -> Vec<u8> {
+    let mut out = vec![(v & 0x7f) as u8];
+    v >>= 7;
+    while v > 0 {
+        out.insert(0, 0x80 | (v & 0x7f) as u8);
+        v >>= 7;
+    }
+    out
+}
+
+/// A format-0 file from (delta, event bytes).
+fn smf(division: u16, events: &[(u32, Vec<u8>)]) -> Vec<u8> {
+    let mut track = Vec::new();
+    for (delta, bytes) in events {
+        track.extend(vlq(*delta));
+        track.extend(bytes);
+    }
+    track.extend([0x00, 0xff, 0x2f, 0x00]);
+    let mut out = b"MThd".to_vec();
+    out.extend(6u32.to_be_bytes());
+    out.extend(0u16.to_be_bytes());
+    out.extend(1u16.to_be_bytes());
+    out.extend(division.to_be_bytes());
+    out.extend(b"MTrk");
+    out.extend((track.len() as u32).to_be_bytes());
+    out.extend(track);
+    out
+}
+
+/// 4/4 at 120 bpm: eight quarter notes (a scale G4..G5, the fourth one with a D4 double
+/// stop below).
+fn scale_file() -> Vec<u8> {
+    let mut ev = vec![
+        (0, vec![0xff, 0x51, 0x03, 0x07, 0xa1, 0x20]),
+        (0, vec![0xff, 0x58, 0x04, 4, 2, 24, 8]),
+    ];
+    for (i, k) in [67u8, 69, 71, 72, 74, 76, 78, 79].into_iter().enumerate() {
+        ev.push((0, vec![0x90, k, 70 + i as u8]));
+        if i == 3 {
+            ev.push((0, vec![0x90, 62, 70]));
+        }
+        ev.push((450, vec![0x80, k, 0]));
+        if i == 3 {
+            ev.push((0, vec![0x80, 62, 0]));
+        }
+        ev.push((30, vec![0xff, 0x01, 0]));
+    }
+    smf(480, &ev)
+}
+
+fn run(args: &[&str], input: &Path, out: &Path) -> std::process::Output {
+    cli().args(args).arg(input).arg("-o").arg(out).output().unwrap()
+}
+
+#[test]
+fn a_midi_file_gives_the_analysis_schema() {
+    let dir = tempfile::tempdir().unwrap();
+    let mid = dir.path().join("scale.mid");
+    std::fs::write(&mid, scale_file()).unwrap();
+    let out = dir.path().join("a.json");
+    let o = run(&["analyze"], &mid, &out);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: Value = serde_json::from_slice(&std::fs::read(&out).unwrap()).unwrap();
+    assert_eq!(v["source"], "midi");
+    assert_eq!(v["schema_version"], 2);
+    let notes = v["notes"].as_array().unwrap();
+    assert_eq!(notes.len(), 9); // the double stop is kept
+    for n in notes {
+        for key in ["onset_s", "offset_s", "midi", "velocity", "string", "position", "finger"] {
+            assert!(n.get(key).is_some(), "{key} missing in {n}");
+        }
+    }
+    assert_eq!(notes[0]["velocity"], 70);
+    let (top, low) = (&notes[3], &notes[4]);
+    assert_eq!((top["midi"].as_u64(), low["midi"].as_u64()), (Some(72), Some(62)));
+    assert_eq!(top["string"].as_u64().unwrap() - low["string"].as_u64().unwrap(), 1);
+    assert_eq!(v["beats_s"].as_array().unwrap().len(), 8);
+    assert_eq!(v["downbeats_s"][1], 2.0);
+    assert_eq!(v["meter"]["beats_per_bar"], 4);
+    assert_eq!(v["tempo_bpm"], 120.0);
+    let changes = v["bow_changes_s"].as_array().unwrap().len();
+    assert_eq!(v["bow_directions"].as_array().unwrap().len(), changes);
+    assert_eq!(v["bow_directions"][0], "down");
+    assert!(!v["arousal"]["values"].as_array().unwrap().is_empty());
+    assert!(!v["f0"]["hz"].as_array().unwrap().is_empty());
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(stderr.contains("timing:"), "{stderr}");
+
+    // generate --analysis-out writes the same analysis; the fingering flags apply.
+    let motion = dir.path().join("m.json");
+    let same = dir.path().join("b.json");
+    let o = cli()
+        .args(["generate"])
+        .arg(&mid)
+        .arg("-o")
+        .arg(&motion)
+        .arg("--analysis-out")
+        .arg(&same)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let w: Value = serde_json::from_slice(&std::fs::read(&same).unwrap()).unwrap();
+    assert_eq!(w["notes"], v["notes"]);
+    let sul = dir.path().join("sul.json");
+    let o = run(&["analyze", "--sul", "G", "--planner", "viterbi"], &mid, &sul);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let s: Value = serde_json::from_slice(&std::fs::read(&sul).unwrap()).unwrap();
+    let on_g = s["notes"].as_array().unwrap().iter().filter(|n| n["string"] == 1).count();
+    assert!(on_g >= 7, "{s}");
+}
+
+#[test]
+fn bad_midi_files_are_refused_with_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let note = |k: u8| vec![(0, vec![0x90, k, 80]), (480, vec![0x80, k, 0])];
+    let cases: Vec<(&str, Vec<u8>, &str)> = vec![
+        ("empty.mid", smf(480, &[]), "no notes"),
+        (
+            "drums.mid",
+            smf(480, &[(0, vec![0x99, 38, 100]), (240, vec![0x89, 38, 0])]),
+            "percussion",
+        ),
+        ("low.mid", smf(480, &note(43)), "--transpose-into-range"),
+        ("div0.mid", smf(0, &note(69)), "division"),
+        ("garbage.mid", b"MThd nonsense".to_vec(), "not a valid Standard MIDI File"),
+    ];
+    for (name, bytes, reason) in cases {
+        let path = dir.path().join(name);
+        std::fs::write(&path, bytes).unwrap();
+        let o = run(&["analyze"], &path, &dir.path().join("x.json"));
+        assert_eq!(o.status.code(), Some(1), "{name}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(err.trim().lines().count(), 1, "{name}: {err}");
+        assert!(err.contains(name) && err.contains(reason), "{name}: {err}");
+    }
+    // With the flag, the low note moves up an octave.
+    let low = dir.path().join("low.mid");
+    let out = dir.path().join("low.json");
+    let o = run(&["analyze", "--transpose-into-range"], &low, &out);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: Value = serde_json::from_slice(&std::fs::read(&out).unwrap()).unwrap();
+    assert_eq!(v["notes"][0]["midi"], 55);
+}

@@ -1,0 +1,280 @@
+//! Training and evaluation on the TNUA violin fingering dataset (feature `train`; not in the
+//! default build). The dataset (Chen et al., IUI 2021,
+//! github.com/Tsung-Ping/Violin-Fingering-Generation) states no licence, so it is not in
+//! the repository: these functions read it from a directory the user gives.
+//!
+//! Layout: `vio{1..10}_{piece}.csv` with a header and columns `pitch, start (beats),
+//! duration, beat_type, string, position, finger`; string 1..=4 = G D A E (0 = not
+//! given), position 1..=12, finger 0 = open string.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use crate::error::FingeringError;
+use crate::fingering::Fingering;
+use crate::learned::{context, interval_class, steps};
+use crate::learned_params::LearnedParams;
+use crate::placement::Placement;
+use crate::string::ViolinString;
+
+/// One violinist's label of a note: string (1..=4, 0 = none), position, finger.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Label {
+    /// 1..=4 = G D A E; 0 = not given.
+    pub string: u8,
+    /// Position as the violinist numbered it.
+    pub position: u8,
+    /// 0 = open string.
+    pub finger: u8,
+}
+
+impl Label {
+    /// The label as a place that plays `midi` (the placement that makes the pitch
+    /// right), or `None` when no low/normal/high finger of that position plays it.
+    pub fn to_fingering(self, midi: u8) -> Option<Fingering> {
+        let string = ViolinString::from_number(self.string)?;
+        if self.finger == 0 {
+            return (midi == string.open_midi()).then(|| Fingering::open(string, self.position));
+        }
+        [Placement::Normal, Placement::Low, Placement::High]
+            .into_iter()
+            .map(|p| Fingering::with_placement(string, self.position, self.finger.min(4), p))
+            .find(|f| f.midi() == midi && self.finger <= 4)
+    }
+
+    /// Whether a planned place agrees with this label on the string.
+    pub fn same_string(&self, f: &Fingering) -> bool {
+        self.string == f.string.number()
+    }
+
+    /// Whether a planned place agrees on string and position; an open string on both sides
+    /// counts as a match on the string alone (an open string has no position of its own).
+    pub fn same_string_position(&self, f: &Fingering) -> bool {
+        self.same_string(f) && (self.position == f.position || (self.finger == 0 && f.is_open()))
+    }
+}
+
+/// One piece: the note sequence (MIDI pitches in the most common version's order) and,
+/// per note, each violinist's label (`None` where that violinist's file lacks the note or
+/// gives no string).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Piece {
+    /// The piece's name (`bach1`, `mend2`, …).
+    pub name: String,
+    /// MIDI pitch per note.
+    pub midi: Vec<u8>,
+    /// `labels[note][violinist]`.
+    pub labels: Vec<Vec<Option<Label>>>,
+    /// Each violinist's own sequence (pitch, label) in file order, for counting.
+    pub sequences: Vec<Vec<(u8, Label)>>,
+}
+
+type Row = (i64, u8, Label); // (start in 1/1000 beat, pitch, label)
+
+fn read_csv(path: &Path) -> Result<Vec<Row>, FingeringError> {
+    let err = |reason: String| FingeringError::Dataset {
+        path: path.display().to_string(),
+        reason,
+    };
+    let text = std::fs::read_to_string(path).map_err(|e| err(format!("cannot read ({e})")))?;
+    let mut rows = Vec::new();
+    for (i, line) in text.lines().enumerate().skip(1) {
+        let f: Vec<&str> = line.trim().split(',').collect();
+        if f.len() < 7 {
+            if line.trim().is_empty() {
+                continue;
+            }
+            return Err(err(format!("line {}: expected 7 columns", i + 1)));
+        }
+        let num = |k: usize| -> Result<f64, FingeringError> {
+            f[k].trim()
+                .parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite() && v.abs() < 1e6)
+                .ok_or_else(|| err(format!("line {}: column {} is not a number", i + 1, k + 1)))
+        };
+        let small = |k: usize| -> Result<u8, FingeringError> {
+            let v = num(k)?;
+            if (0.0..=127.0).contains(&v) {
+                Ok(v as u8)
+            } else {
+                Err(err(format!(
+                    "line {}: column {} out of range",
+                    i + 1,
+                    k + 1
+                )))
+            }
+        };
+        let label = Label {
+            string: small(4)?,
+            position: small(5)?,
+            finger: small(6)?,
+        };
+        rows.push(((num(1)? * 1000.0).round() as i64, small(0)?, label));
+    }
+    Ok(rows)
+}
+
+/// Reads every piece of the dataset in `dir` (files `vio{N}_{piece}.csv`), pieces sorted by
+/// name, violinists by number.
+pub fn read_tnua_dir(dir: &Path) -> Result<Vec<Piece>, FingeringError> {
+    let entries = std::fs::read_dir(dir).map_err(|e| FingeringError::Dataset {
+        path: dir.display().to_string(),
+        reason: format!("cannot list ({e})"),
+    })?;
+    let mut files: BTreeMap<String, BTreeMap<u32, Vec<Row>>> = BTreeMap::new();
+    for entry in entries.flatten() {
+        let name = entry.file_name().to_string_lossy().to_string();
+        let Some(stem) = name.strip_suffix(".csv") else {
+            continue;
+        };
+        let Some((vio, piece)) = stem.split_once('_') else {
+            continue;
+        };
+        let Some(Ok(n)) = vio.strip_prefix("vio").map(str::parse::<u32>) else {
+            continue;
+        };
+        let rows = read_csv(&entry.path())?;
+        files.entry(piece.to_string()).or_default().insert(n, rows);
+    }
+    if files.is_empty() {
+        return Err(FingeringError::Dataset {
+            path: dir.display().to_string(),
+            reason: "no vio*_*.csv files".into(),
+        });
+    }
+    Ok(files.into_iter().map(|(n, v)| align(n, v)).collect())
+}
+
+/// Aligns the violinists' files of one piece on (onset, pitch, occurrence).
+fn align(name: String, by_violinist: BTreeMap<u32, Vec<Row>>) -> Piece {
+    let keys = |rows: &Vec<Row>| -> Vec<(i64, u8)> { rows.iter().map(|r| (r.0, r.1)).collect() };
+    let mut versions: BTreeMap<Vec<(i64, u8)>, usize> = BTreeMap::new();
+    for rows in by_violinist.values() {
+        *versions.entry(keys(rows)).or_default() += 1;
+    }
+    let reference = versions
+        .iter()
+        .max_by_key(|(k, n)| (**n, std::cmp::Reverse((*k).clone())))
+        .map(|(k, _)| k.clone())
+        .unwrap_or_default();
+    let mut labels = vec![Vec::with_capacity(by_violinist.len()); reference.len()];
+    let mut sequences = Vec::new();
+    for rows in by_violinist.values() {
+        let mut seen: BTreeMap<(i64, u8), Vec<Label>> = BTreeMap::new();
+        for r in rows {
+            seen.entry((r.0, r.1)).or_default().push(r.2);
+        }
+        let mut used: BTreeMap<(i64, u8), usize> = BTreeMap::new();
+        for (k, slot) in reference.iter().zip(labels.iter_mut()) {
+            let n = used.entry(*k).or_default();
+            let label = seen.get(k).and_then(|v| v.get(*n)).copied();
+            *n += 1;
+            slot.push(label.filter(|l| l.string != 0));
+        }
+        sequences.push(rows.iter().map(|r| (r.1, r.2)).collect());
+    }
+    Piece {
+        name,
+        midi: reference.iter().map(|k| k.1).collect(),
+        labels,
+        sequences,
+    }
+}
+
+/// Counts the pieces' fingerings into parameters with the given smoothing and weights
+/// `[alpha, beta, lambda, mu, gamma_string, gamma_position]` (see [`LearnedParams`]).
+pub fn fit(pieces: &[&Piece], h: [f64; 6]) -> LearnedParams {
+    let [alpha, beta, lambda, mu, gamma_string, gamma_position] = h;
+    let mut p = LearnedParams {
+        alpha,
+        beta,
+        lambda,
+        mu,
+        gamma_string,
+        gamma_position,
+        ..LearnedParams::default()
+    };
+    let names: Vec<&str> = pieces.iter().map(|p| p.name.as_str()).collect();
+    p.notes = vec![
+        "Learned from the TNUA violin fingering dataset (Chen et al., IUI 2021,".into(),
+        "github.com/Tsung-Ping/Violin-Fingering-Generation), 10 violinists.".into(),
+        format!("Pieces used: {}.", names.join(", ")),
+        "Written by `cargo run --release -p fingering --features train --example tnua`.".into(),
+    ];
+    for piece in pieces {
+        for seq in &piece.sequences {
+            let mut previous: Option<(u8, Fingering)> = None;
+            let pitches: Vec<u8> = seq.iter().map(|s| s.0).collect();
+            for (i, &(midi, label)) in seq.iter().enumerate() {
+                let place = label.to_fingering(midi);
+                if let Some(f) = place {
+                    *p.emission
+                        .entry((midi, context(&pitches, i), f))
+                        .or_default() += 1;
+                    if let Some((pm, pf)) = previous {
+                        let iv = interval_class(pm, midi);
+                        let (ds, dp) = steps(&pf, &f);
+                        *p.transition.entry((iv, ds, dp)).or_default() += 1;
+                        if ds == 0 && dp == 0 && !pf.is_open() && !f.is_open() {
+                            *p.finger.entry((iv, pf.finger, f.finger)).or_default() += 1;
+                        }
+                    }
+                }
+                previous = place.map(|f| (midi, f));
+            }
+        }
+    }
+    p
+}
+
+/// Agreement of planned fingerings with the violinists, summed over notes.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Agreement {
+    /// Notes with at least one violinist's label.
+    pub notes: usize,
+    /// Sum over notes of the share of violinists on the same string.
+    pub string: f64,
+    /// Sum over notes of the share on the same string and position (open = open).
+    pub string_position: f64,
+    /// Notes where at least one violinist agrees on string and position.
+    pub any: usize,
+}
+
+impl Agreement {
+    /// Adds another piece's sums.
+    pub fn add(&mut self, o: &Agreement) {
+        self.notes += o.notes;
+        self.string += o.string;
+        self.string_position += o.string_position;
+        self.any += o.any;
+    }
+
+    /// (string, string+position, any) as shares of the notes.
+    pub fn shares(&self) -> (f64, f64, f64) {
+        let n = self.notes.max(1) as f64;
+        (
+            self.string / n,
+            self.string_position / n,
+            self.any as f64 / n,
+        )
+    }
+}
+
+/// How far `plan` (one place per note of `piece`) agrees with the violinists.
+pub fn agreement(piece: &Piece, plan: &[Fingering]) -> Agreement {
+    let mut a = Agreement::default();
+    for (labels, f) in piece.labels.iter().zip(plan) {
+        let given: Vec<&Label> = labels.iter().flatten().collect();
+        if given.is_empty() {
+            continue;
+        }
+        let n = given.len() as f64;
+        let sp = given.iter().filter(|l| l.same_string_position(f)).count();
+        a.notes += 1;
+        a.string += given.iter().filter(|l| l.same_string(f)).count() as f64 / n;
+        a.string_position += sp as f64 / n;
+        a.any += usize::from(sp > 0);
+    }
+    a
+}

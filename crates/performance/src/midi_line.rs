@@ -1,0 +1,201 @@
+//! From a [`MidiScore`] to what motion needs: the beat grid (from time signatures, or
+//! inferred from the notes), one melodic line, and bowing by the rules of [`crate::midi`].
+
+use crate::meter::Meter;
+use crate::midi::{MidiNote, MidiScore};
+use crate::note::Note;
+use crate::timeline::{arousal_proxy, TimedNote, Timeline};
+
+const CHORD_S: f64 = 0.03;
+const LEGATO_GAP_S: f64 = 0.03;
+/// The most beats a grid has (an hour at 1000 bpm in 32nd-note beats is far below).
+const MAX_BEATS: usize = 2_000_000;
+
+/// Beats, downbeats and the first bar's meter.
+pub(crate) struct Grid {
+    pub beats_s: Vec<f64>,
+    pub downbeats_s: Vec<f64>,
+    pub meter: Meter,
+    pub from_file: bool,
+}
+
+/// (beat length in ticks, beats per bar, subdivisions) of a time signature.
+fn beat_of(num: u32, den: u32, ticks_per_quarter: f64) -> (f64, u32, u8) {
+    let compound = den == 8 && num.is_multiple_of(3) && num > 3;
+    if compound {
+        (1.5 * ticks_per_quarter, num / 3, 3)
+    } else {
+        (4.0 / f64::from(den) * ticks_per_quarter, num, 2)
+    }
+}
+
+/// The bar length (2, 3 or 4 quarter beats) and phase that put the most duration ×
+/// velocity on downbeats, relative to what an even spread would put there (ties → 4).
+fn infer_meter(notes: &[(u64, u64, u8, u8, u8)], tpq: f64) -> (u32, u64) {
+    let mut best = (f64::NEG_INFINITY, 4u32, 0u64);
+    for bpb in [4u32, 3, 2] {
+        let mut weight = vec![0.0f64; bpb as usize];
+        let mut total = 0.0;
+        for &(on, off, _, vel, _) in notes {
+            let beat = on as f64 / tpq;
+            if (beat - beat.round()).abs() > 0.125 {
+                continue;
+            }
+            let w = ((off - on) as f64 / tpq).min(4.0) * f64::from(vel);
+            let slot = (beat.round() as u64 % u64::from(bpb)) as usize;
+            if let Some(x) = weight.get_mut(slot) {
+                *x += w;
+            }
+            total += w;
+        }
+        if total <= 0.0 {
+            continue;
+        }
+        for (phase, &w) in weight.iter().enumerate() {
+            let ratio = w / total * f64::from(bpb);
+            if ratio > best.0 + 1e-9 {
+                best = (ratio, bpb, phase as u64);
+            }
+        }
+    }
+    (best.1, best.2)
+}
+
+/// The beat grid from the time signatures (every change), or inferred from the notes when
+/// the file has none.
+pub(crate) fn beat_grid(
+    signatures: &[(u64, u32, u32)],
+    notes: &[(u64, u64, u8, u8, u8)],
+    tpq: f64,
+    last_tick: u64,
+    seconds: impl Fn(f64) -> f64,
+) -> Grid {
+    let mut sigs: Vec<(u64, u32, u32)> = signatures.to_vec();
+    sigs.sort_by_key(|s| s.0);
+    // The last signature at a tick wins.
+    let mut dedup: Vec<(u64, u32, u32)> = Vec::with_capacity(sigs.len());
+    for s in sigs {
+        match dedup.last_mut() {
+            Some(last) if last.0 == s.0 => *last = s,
+            _ => dedup.push(s),
+        }
+    }
+    let from_file = !dedup.is_empty();
+    // Beat index (from the file's start) of the first downbeat: earlier beats are a pickup.
+    let mut phase = 0u64;
+    if dedup.is_empty() {
+        let (bpb, p) = infer_meter(notes, tpq);
+        phase = p;
+        dedup.push((0, bpb, 4));
+    } else if let Some(first) = dedup.first_mut() {
+        first.0 = 0; // a first signature after tick 0 also rules the bars before it
+    }
+    let (_, num, den) = dedup[0];
+    let (_, bpb0, sub0) = beat_of(num, den, tpq);
+    let meter = Meter {
+        beats_per_bar: u8::try_from(bpb0).unwrap_or(u8::MAX),
+        subdivisions: sub0,
+    };
+    let (mut beats_s, mut downbeats_s) = (Vec::new(), Vec::new());
+    for (i, &(tick, num, den)) in dedup.iter().enumerate() {
+        let end = dedup
+            .get(i + 1)
+            .map_or(last_tick as f64 + 1e-9, |n| n.0 as f64 - 1e-9);
+        let (beat_ticks, bpb, _) = beat_of(num, den, tpq);
+        let bpb = u64::from(bpb.max(1));
+        let phase = if i == 0 { phase % bpb } else { 0 };
+        let mut k = 0u64;
+        loop {
+            let t = tick as f64 + k as f64 * beat_ticks;
+            if t > end || beats_s.len() >= MAX_BEATS {
+                break;
+            }
+            let s = seconds(t);
+            if beats_s.last().is_none_or(|&l| s > l) {
+                beats_s.push(s);
+                if k >= phase && (k - phase).is_multiple_of(bpb) {
+                    downbeats_s.push(s);
+                }
+            }
+            k += 1;
+        }
+    }
+    Grid {
+        beats_s,
+        downbeats_s,
+        meter,
+        from_file,
+    }
+}
+
+/// One melodic line: chords keep their highest note, overlaps cut the earlier note.
+pub(crate) fn reduce_to_line(notes: &[MidiNote]) -> Vec<TimedNote> {
+    let mut out: Vec<TimedNote> = Vec::new();
+    for n in notes {
+        if let Some(prev) = out.last_mut() {
+            if n.onset_s - prev.note.onset_s < CHORD_S {
+                continue; // lower note of a chord (sorted highest first)
+            }
+            if prev.note.offset_s > n.onset_s {
+                prev.note.offset_s = n.onset_s;
+            }
+        }
+        out.push(TimedNote {
+            note: Note {
+                velocity: Some(n.velocity),
+                ..Note::new(n.onset_s, n.offset_s, n.midi)
+            },
+            bow_change: true,
+            dynamic: f32::from(n.velocity) / 127.0,
+            accent: false,
+        });
+    }
+    out
+}
+
+/// Marks each note of the line as a new stroke or a slur, by the rules of [`crate::midi`].
+pub(crate) fn assign_bowing(mut notes: Vec<TimedNote>, downbeats_s: &[f64]) -> Vec<TimedNote> {
+    let mut slur_len = 0usize;
+    let mut stroke_start = 0.0;
+    for i in 0..notes.len() {
+        let onset = notes[i].note.onset_s;
+        let d = downbeats_s.partition_point(|&d| d < onset - 0.02);
+        let on_downbeat = downbeats_s
+            .get(d)
+            .is_some_and(|&d| (d - onset).abs() < 0.02);
+        let slurred = i > 0 && {
+            let prev = &notes[i - 1];
+            let cur = &notes[i];
+            let short = cur.note.offset_s - cur.note.onset_s < 0.2;
+            cur.note.onset_s - prev.note.offset_s < LEGATO_GAP_S
+                && slur_len < if short { 8 } else { 4 }
+                && cur.note.offset_s - stroke_start < 2.0
+                && !on_downbeat
+                && (cur.dynamic - prev.dynamic).abs() * 127.0 <= 20.0
+        };
+        if slurred {
+            slur_len += 1;
+        } else {
+            slur_len = 1;
+            stroke_start = onset;
+        }
+        notes[i].bow_change = !slurred;
+        notes[i].accent = on_downbeat && !slurred;
+    }
+    notes
+}
+
+/// The line of a score with its bowing, dynamics and arousal.
+pub fn timeline_from_score(score: &MidiScore) -> Timeline {
+    let notes = assign_bowing(reduce_to_line(&score.notes), &score.downbeats_s);
+    let duration_s = score.duration_s;
+    let arousal_2hz = arousal_proxy(&notes, duration_s);
+    Timeline {
+        duration_s,
+        tempo_bpm: score.tempo_bpm,
+        notes,
+        beats_s: score.beats_s.clone(),
+        downbeats_s: score.downbeats_s.clone(),
+        arousal_2hz,
+    }
+}

@@ -1,0 +1,175 @@
+//! Fingering of analysed notes: the planner the pipeline was built with, the style knobs,
+//! *sul* passages in seconds, and double stops.
+
+use fingering::{
+    Fingering, FingeringPlanner, FingeringStyle, FingeringTable, GreedyPlanner, LearnedPlanner,
+    OptimalPlanner, ViolinString,
+};
+use performance::Note;
+
+/// Which fingering planner places the notes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum PlannerKind {
+    /// The original design's greedy rule (on the physical fingerboard model, so every pitch
+    /// G3..A7 gets a place).
+    Greedy,
+    /// Viterbi over the physical model's places with hand-set costs.
+    Optimal,
+    /// Viterbi over costs learned from ten violinists (TNUA dataset; default: it agrees
+    /// with the violinists more often than the others on the held-out pieces).
+    #[default]
+    Learned,
+}
+
+/// A passage played on one string (*sul G*, *sul D*, …), in seconds: notes starting in
+/// `[from_s, to_s)` stay on `string` wherever it can play them.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SulSpan {
+    /// The string.
+    pub string: ViolinString,
+    /// Start of the passage in seconds.
+    pub from_s: f64,
+    /// End of the passage in seconds.
+    pub to_s: f64,
+}
+
+/// Two notes closer than this (seconds) start together: a chord.
+const CHORD_S: f64 = 0.03;
+/// A note that starts while another sounds is a double stop with it when they overlap by
+/// at least this long (seconds) and half the shorter note.
+const DOUBLE_STOP_OVERLAP_S: f64 = 0.1;
+
+fn sounds_with(line: &Note, n: &Note) -> bool {
+    if (n.onset_s - line.onset_s).abs() < CHORD_S {
+        return true;
+    }
+    let overlap = line.offset_s.min(n.offset_s) - line.onset_s.max(n.onset_s);
+    let shorter = line.duration_s().min(n.duration_s());
+    overlap >= DOUBLE_STOP_OVERLAP_S && overlap >= 0.5 * shorter
+}
+
+/// The place of a double-stop partner of `line` (already placed): on the neighbouring
+/// string below (a lower note) or above (a higher one) — the next one out when that string
+/// cannot play it — in the position nearest the line's; an open string when it is the
+/// partner's pitch.
+fn partner_place(line: &Fingering, midi: u8) -> Option<Fingering> {
+    let table = FingeringTable::physical();
+    let places = table.places(midi);
+    let here = i32::from(line.string.number());
+    let dir = if midi < line.midi() { -1 } else { 1 };
+    for step in 1..=3 {
+        let Some(string) = u8::try_from(here + dir * step)
+            .ok()
+            .and_then(ViolinString::from_number)
+        else {
+            break;
+        };
+        let best = places
+            .iter()
+            .filter(|f| f.string == string)
+            .min_by_key(|f| (!f.is_open(), f.position.abs_diff(line.position)));
+        if let Some(&f) = best {
+            return Some(if f.is_open() {
+                Fingering::open(string, line.position)
+            } else {
+                f
+            });
+        }
+    }
+    places
+        .iter()
+        .filter(|f| f.string != line.string)
+        .min_by_key(|f| f.position.abs_diff(line.position))
+        .copied()
+}
+
+/// One place per note (`None` for a note no violin place plays): the notes of the melodic
+/// line (each note that does not sound together with the line's current note) go through
+/// the planner with the style; the other notes of a double stop or chord take the
+/// neighbouring strings ([`partner_place`]).
+pub(crate) fn plan_notes(
+    kind: PlannerKind,
+    style: &FingeringStyle,
+    sul: &[SulSpan],
+    notes: &[Note],
+) -> Vec<Option<Fingering>> {
+    let table = FingeringTable::physical();
+    let mut line: Vec<usize> = Vec::new();
+    let mut partner_of: Vec<Option<usize>> = vec![None; notes.len()];
+    for (i, n) in notes.iter().enumerate() {
+        if table.places(n.midi).is_empty() {
+            continue;
+        }
+        match line.last() {
+            Some(&l) if sounds_with(&notes[l], n) => partner_of[i] = Some(l),
+            _ => line.push(i),
+        }
+    }
+    let pitches: Vec<u8> = line.iter().map(|&i| notes[i].midi).collect();
+    let mut style = style.clone();
+    for span in sul {
+        let from = line.partition_point(|&i| notes[i].onset_s < span.from_s);
+        let to = line.partition_point(|&i| notes[i].onset_s < span.to_s);
+        style = style.sul(span.string, from..to);
+    }
+    let plan = match kind {
+        PlannerKind::Greedy => GreedyPlanner::new(table).plan(&pitches),
+        PlannerKind::Optimal => OptimalPlanner::default().with_style(style).plan(&pitches),
+        PlannerKind::Learned => LearnedPlanner::default().with_style(style).plan(&pitches),
+    }
+    .unwrap_or_default();
+    let mut out = vec![None; notes.len()];
+    for (&i, f) in line.iter().zip(plan) {
+        out[i] = Some(f);
+    }
+    for (i, partner) in partner_of.iter().enumerate() {
+        if let Some(line_place) = partner.and_then(|l| out[l]) {
+            out[i] = partner_place(&line_place, notes[i].midi);
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn double_stops_sit_on_neighbouring_strings() {
+        // A4 with D4 below for a second, then B4 alone.
+        let notes = [
+            Note::new(0.0, 1.0, 69),
+            Note::new(0.0, 1.0, 62),
+            Note::new(1.0, 2.0, 71),
+        ];
+        let plan = plan_notes(PlannerKind::Learned, &FingeringStyle::default(), &[], &notes);
+        let (a, d) = (plan[0].unwrap(), plan[1].unwrap());
+        assert_eq!(a.midi(), 69);
+        assert_eq!(d.midi(), 62);
+        assert_eq!(i32::from(a.string.number()) - i32::from(d.string.number()), 1);
+        assert!(plan[2].is_some());
+        // A legato overlap of 20 ms is not a double stop.
+        let legato = [Note::new(0.0, 1.02, 69), Note::new(1.0, 2.0, 71)];
+        let plan = plan_notes(PlannerKind::Optimal, &FingeringStyle::default(), &[], &legato);
+        assert!(plan.iter().all(|f| f.is_some()));
+    }
+
+    #[test]
+    fn sul_spans_in_seconds_keep_the_passage_on_its_string() {
+        let notes: Vec<Note> = [62u8, 64, 66, 67, 69, 71]
+            .iter()
+            .enumerate()
+            .map(|(i, &m)| Note::new(i as f64 * 0.5, i as f64 * 0.5 + 0.5, m))
+            .collect();
+        let sul = [SulSpan {
+            string: ViolinString::G,
+            from_s: 0.0,
+            to_s: 10.0,
+        }];
+        let plan = plan_notes(PlannerKind::Learned, &FingeringStyle::default(), &sul, &notes);
+        assert!(plan.iter().all(|f| f.is_some_and(|f| f.string == ViolinString::G)));
+        // Below G3 nothing plays: no place, no panic.
+        let low = plan_notes(PlannerKind::Greedy, &FingeringStyle::default(), &[], &[Note::new(0.0, 1.0, 40)]);
+        assert_eq!(low, vec![None]);
+    }
+}

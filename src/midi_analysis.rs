@@ -1,0 +1,96 @@
+//! The analysis of a MIDI file, in the same `analysis.json` schema as a recording's.
+
+use std::path::Path;
+
+use performance::midi::{score_from_midi_file, timeline_from_score, MidiScore};
+use performance::{
+    arousal_proxy_of_spans, bow_directions, Analysis, ArousalCurve, F0Track, Note,
+    ANALYSIS_SCHEMA_VERSION,
+};
+
+use crate::error::Result;
+use crate::pipeline::Pipeline;
+
+/// The f0 hop of MIDI analyses: the pitch tracker's (256 samples at 22 050 Hz).
+pub const MIDI_F0_HOP_S: f64 = 256.0 / 22_050.0;
+
+/// f0 of the highest sounding note per frame (0 where nothing sounds), voiced 1 or 0.
+fn f0_of(notes: &[Note], duration_s: f64) -> F0Track {
+    let frames = (duration_s / MIDI_F0_HOP_S).ceil().max(0.0) as usize;
+    let mut top = vec![0u8; frames];
+    for n in notes {
+        let first = (n.onset_s / MIDI_F0_HOP_S).ceil().max(0.0) as usize;
+        let last = ((n.offset_s / MIDI_F0_HOP_S).ceil().max(0.0) as usize).min(frames);
+        for t in top.iter_mut().take(last).skip(first) {
+            *t = (*t).max(n.midi);
+        }
+    }
+    F0Track {
+        hop_s: MIDI_F0_HOP_S,
+        hz: top
+            .iter()
+            .map(|&m| {
+                if m == 0 {
+                    0.0
+                } else {
+                    (440.0 * 2f64.powf((f64::from(m) - 69.0) / 12.0)) as f32
+                }
+            })
+            .collect(),
+        voiced_prob: top.iter().map(|&m| f32::from(u8::from(m > 0))).collect(),
+    }
+}
+
+impl Pipeline {
+    /// The analysis of a MIDI file (see `performance::midi` for the rules): every note as
+    /// the file has it (onset, offset, pitch, velocity; overlapping notes kept as double
+    /// stops) with string, position and finger; beats, downbeats and meter from the tempo
+    /// map and time signatures (inferred from the notes without one); bow changes from the
+    /// slur rules on the melodic line, stroke directions by [`performance::bow_directions`];
+    /// arousal from velocity and note density; f0 of the highest sounding note.
+    /// `sample_rate` is 0 (no audio).
+    pub fn analyze_midi_file(&self, path: impl AsRef<Path>) -> Result<Analysis> {
+        let score = score_from_midi_file(path, &self.midi_options())?;
+        Ok(self.analyze_midi_score(&score))
+    }
+
+    /// [`Pipeline::analyze_midi_file`] on a score already read.
+    pub fn analyze_midi_score(&self, score: &MidiScore) -> Analysis {
+        let timeline = timeline_from_score(score);
+        let bare: Vec<Note> = score
+            .notes
+            .iter()
+            .map(|n| Note {
+                velocity: Some(n.velocity),
+                ..Note::new(n.onset_s, n.offset_s, n.midi)
+            })
+            .collect();
+        let notes: Vec<Note> = bare
+            .iter()
+            .zip(self.plan(&bare))
+            .map(|(n, fingering)| Note { fingering, ..*n })
+            .collect();
+        let bow_changes_s = timeline.bow_changes_s();
+        let directions = bow_directions(&bow_changes_s, &notes, &score.downbeats_s);
+        let spans: Vec<(f64, f64, f32)> = score
+            .notes
+            .iter()
+            .map(|n| (n.onset_s, n.offset_s, f32::from(n.velocity) / 127.0))
+            .collect();
+        Analysis {
+            schema_version: ANALYSIS_SCHEMA_VERSION,
+            source: "midi".into(),
+            duration_s: score.duration_s,
+            sample_rate: 0,
+            f0: f0_of(&notes, score.duration_s),
+            notes,
+            bow_changes_s,
+            bow_directions: directions,
+            beats_s: score.beats_s.clone(),
+            downbeats_s: score.downbeats_s.clone(),
+            tempo_bpm: score.tempo_bpm,
+            meter: Some(score.meter),
+            arousal: ArousalCurve::deam(arousal_proxy_of_spans(&spans, score.duration_s)),
+        }
+    }
+}
