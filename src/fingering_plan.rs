@@ -142,15 +142,28 @@ mod tests {
             Note::new(0.0, 1.0, 62),
             Note::new(1.0, 2.0, 71),
         ];
-        let plan = plan_notes(PlannerKind::Learned, &FingeringStyle::default(), &[], &notes);
+        let plan = plan_notes(
+            PlannerKind::Learned,
+            &FingeringStyle::default(),
+            &[],
+            &notes,
+        );
         let (a, d) = (plan[0].unwrap(), plan[1].unwrap());
         assert_eq!(a.midi(), 69);
         assert_eq!(d.midi(), 62);
-        assert_eq!(i32::from(a.string.number()) - i32::from(d.string.number()), 1);
+        assert_eq!(
+            i32::from(a.string.number()) - i32::from(d.string.number()),
+            1
+        );
         assert!(plan[2].is_some());
         // A legato overlap of 20 ms is not a double stop.
         let legato = [Note::new(0.0, 1.02, 69), Note::new(1.0, 2.0, 71)];
-        let plan = plan_notes(PlannerKind::Optimal, &FingeringStyle::default(), &[], &legato);
+        let plan = plan_notes(
+            PlannerKind::Optimal,
+            &FingeringStyle::default(),
+            &[],
+            &legato,
+        );
         assert!(plan.iter().all(|f| f.is_some()));
     }
 
@@ -166,10 +179,22 @@ mod tests {
             from_s: 0.0,
             to_s: 10.0,
         }];
-        let plan = plan_notes(PlannerKind::Learned, &FingeringStyle::default(), &sul, &notes);
-        assert!(plan.iter().all(|f| f.is_some_and(|f| f.string == ViolinString::G)));
+        let plan = plan_notes(
+            PlannerKind::Learned,
+            &FingeringStyle::default(),
+            &sul,
+            &notes,
+        );
+        assert!(plan
+            .iter()
+            .all(|f| f.is_some_and(|f| f.string == ViolinString::G)));
         // Below G3 nothing plays: no place, no panic.
-        let low = plan_notes(PlannerKind::Greedy, &FingeringStyle::default(), &[], &[Note::new(0.0, 1.0, 40)]);
+        let low = plan_notes(
+            PlannerKind::Greedy,
+            &FingeringStyle::default(),
+            &[],
+            &[Note::new(0.0, 1.0, 40)],
+        );
         assert_eq!(low, vec![None]);
     }
 }

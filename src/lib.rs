@@ -34,12 +34,12 @@ mod pipeline;
 
 pub use chunking::Chunking;
 pub use error::{Error, Result};
-pub use performance::{Analysis, ArousalCurve, F0Track, Note};
 pub use fingering::{FingeringStyle, ViolinString};
 pub use fingering_plan::{PlannerKind, SulSpan};
-pub use performance::{BowDirection, Meter};
 #[cfg(feature = "midi")]
 pub use midi_analysis::MIDI_F0_HOP_S;
+pub use performance::{Analysis, ArousalCurve, F0Track, Note};
+pub use performance::{BowDirection, Meter};
 pub use pipeline::{
     Method, Pipeline, PipelineBuilder, StageTimings, BOW_CHANGE_ONSET_LEAD_S,
     BOW_CHANGE_SPLIT_MIN_PART_S, MIN_DURATION_S,

@@ -138,9 +138,9 @@ fn run_midi(args: &AnalyzeArgs, pipeline: &Pipeline, report: &Reporter) -> Resul
         .iter()
         .filter(|n| n.fingering.is_some())
         .count();
-    let meter = analysis
-        .meter
-        .map_or_else(String::new, |m| format!(", {} beats per bar", m.beats_per_bar));
+    let meter = analysis.meter.map_or_else(String::new, |m| {
+        format!(", {} beats per bar", m.beats_per_bar)
+    });
     report.line(&format!(
         "{} (MIDI): {:.1} s → {} notes ({placed} fingered), {} bow changes, {:.1} bpm ({} beats, {} downbeats{meter}) written to {}",
         args.input.display(),

@@ -88,9 +88,9 @@ pub fn parse_sul(text: &str) -> Result<SulSpan, String> {
     let (from_s, to_s) = match range {
         None => (0.0, f64::INFINITY),
         Some(r) => {
-            let (a, b) = r
-                .split_once('-')
-                .ok_or_else(|| format!("`{r}`: give the passage as FROM-TO seconds, e.g. G@12.5-20"))?;
+            let (a, b) = r.split_once('-').ok_or_else(|| {
+                format!("`{r}`: give the passage as FROM-TO seconds, e.g. G@12.5-20")
+            })?;
             let num = |s: &str| {
                 s.trim()
                     .parse::<f64>()
@@ -118,8 +118,12 @@ impl FingeringArgs {
         let mut style = FingeringStyle::default();
         match self.open_strings {
             OpenStrings::Neutral => {}
-            OpenStrings::Prefer => style.open_string = FingeringStyle::prefer_open_strings().open_string,
-            OpenStrings::Avoid => style.open_string = FingeringStyle::avoid_open_strings().open_string,
+            OpenStrings::Prefer => {
+                style.open_string = FingeringStyle::prefer_open_strings().open_string
+            }
+            OpenStrings::Avoid => {
+                style.open_string = FingeringStyle::avoid_open_strings().open_string
+            }
         }
         match self.positions {
             Positions::Neutral => {}

@@ -62,7 +62,13 @@ fn scale_file() -> Vec<u8> {
 }
 
 fn run(args: &[&str], input: &Path, out: &Path) -> std::process::Output {
-    cli().args(args).arg(input).arg("-o").arg(out).output().unwrap()
+    cli()
+        .args(args)
+        .arg(input)
+        .arg("-o")
+        .arg(out)
+        .output()
+        .unwrap()
 }
 
 #[test]
@@ -79,14 +85,22 @@ fn a_midi_file_gives_the_analysis_schema() {
     let notes = v["notes"].as_array().unwrap();
     assert_eq!(notes.len(), 9); // the double stop is kept
     for n in notes {
-        for key in ["onset_s", "offset_s", "midi", "velocity", "string", "position", "finger"] {
+        for key in [
+            "onset_s", "offset_s", "midi", "velocity", "string", "position", "finger",
+        ] {
             assert!(n.get(key).is_some(), "{key} missing in {n}");
         }
     }
     assert_eq!(notes[0]["velocity"], 70);
     let (top, low) = (&notes[3], &notes[4]);
-    assert_eq!((top["midi"].as_u64(), low["midi"].as_u64()), (Some(72), Some(62)));
-    assert_eq!(top["string"].as_u64().unwrap() - low["string"].as_u64().unwrap(), 1);
+    assert_eq!(
+        (top["midi"].as_u64(), low["midi"].as_u64()),
+        (Some(72), Some(62))
+    );
+    assert_eq!(
+        top["string"].as_u64().unwrap() - low["string"].as_u64().unwrap(),
+        1
+    );
     assert_eq!(v["beats_s"].as_array().unwrap().len(), 8);
     assert_eq!(v["downbeats_s"][1], 2.0);
     assert_eq!(v["meter"]["beats_per_bar"], 4);
@@ -115,10 +129,19 @@ fn a_midi_file_gives_the_analysis_schema() {
     let w: Value = serde_json::from_slice(&std::fs::read(&same).unwrap()).unwrap();
     assert_eq!(w["notes"], v["notes"]);
     let sul = dir.path().join("sul.json");
-    let o = run(&["analyze", "--sul", "G", "--planner", "viterbi"], &mid, &sul);
+    let o = run(
+        &["analyze", "--sul", "G", "--planner", "viterbi"],
+        &mid,
+        &sul,
+    );
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let s: Value = serde_json::from_slice(&std::fs::read(&sul).unwrap()).unwrap();
-    let on_g = s["notes"].as_array().unwrap().iter().filter(|n| n["string"] == 1).count();
+    let on_g = s["notes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|n| n["string"] == 1)
+        .count();
     assert!(on_g >= 7, "{s}");
 }
 
@@ -135,7 +158,11 @@ fn bad_midi_files_are_refused_with_one_line() {
         ),
         ("low.mid", smf(480, &note(43)), "--transpose-into-range"),
         ("div0.mid", smf(0, &note(69)), "division"),
-        ("garbage.mid", b"MThd nonsense".to_vec(), "not a valid Standard MIDI File"),
+        (
+            "garbage.mid",
+            b"MThd nonsense".to_vec(),
+            "not a valid Standard MIDI File",
+        ),
     ];
     for (name, bytes, reason) in cases {
         let path = dir.path().join(name);

@@ -108,17 +108,7 @@ pub fn make_item(
     };
     let mut audio = renderer.render(&timeline, &settings)?;
     augmentation.apply(&mut audio, root.fork(5).next_u64());
-    let on_downbeat: Vec<bool> = timeline
-        .notes
-        .iter()
-        .map(|n| {
-            timeline
-                .downbeats_s
-                .iter()
-                .any(|d| (d - n.note.onset_s).abs() < 1e-6)
-        })
-        .collect();
-    let strokes = bow_strokes(&timeline, &on_downbeat, root.fork(6).next_u64());
+    let strokes = bow_strokes(&timeline);
     let tempo_bpm_per_beat = timeline
         .beats_s
         .windows(2)
@@ -160,7 +150,7 @@ pub fn make_score_item(
     let performance = performance_of(&timeline)?;
     let motion = synthesize(&performance, &SynthConfig::default())
         .map_err(|e| CorpusError::Performance(e.to_string()))?;
-    let strokes = bow_strokes(&timeline, &played.on_downbeat, root.fork(6).next_u64());
+    let strokes = bow_strokes(&timeline);
     let mut rec_rng = root.fork(3);
     let recording = if augment {
         Recording::draw(&mut rec_rng)

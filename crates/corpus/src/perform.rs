@@ -4,7 +4,7 @@
 //! level, downbeats, the tempo per beat and bow strokes with their direction.
 
 use performance::{
-    arousal_proxy, BowDirection, BowStroke, Note, TimeSignature, TimedNote, Timeline,
+    arousal_proxy, bow_directions, BowStroke, Note, TimeSignature, TimedNote, Timeline,
 };
 use serde::{Deserialize, Serialize};
 
@@ -43,8 +43,6 @@ pub struct Played {
     pub time_signature: TimeSignature,
     /// Local tempo at each beat (from that beat to the next), notated beats per minute.
     pub tempo_bpm_per_beat: Vec<f64>,
-    /// For each note, whether it starts on a downbeat (for the bow-direction rule).
-    pub on_downbeat: Vec<bool>,
     /// Chords reduced to their top note (double stops the renderers do not play).
     pub double_stops: usize,
     /// The timing that was drawn.
@@ -129,7 +127,6 @@ pub fn perform(score: &Score, seed: u64, tempo_range_bpm: (f64, f64)) -> Played 
         rng.uniform(0.0, std::f64::consts::TAU),
     );
     let mut notes: Vec<TimedNote> = Vec::with_capacity(score.notes.len());
-    let mut on_downbeat = Vec::with_capacity(score.notes.len());
     let mut prev_onset = f64::NEG_INFINITY;
     for (i, n) in score.notes.iter().enumerate() {
         let next = score.notes.get(i + 1);
@@ -160,7 +157,6 @@ pub fn perform(score: &Score, seed: u64, tempo_range_bpm: (f64, f64)) -> Played 
             f64::from,
         ) + rng.uniform(-0.04, 0.04);
         let starts_bar = downbeat_q.iter().any(|q| (q - n.start_q).abs() < 1e-6);
-        on_downbeat.push(starts_bar);
         notes.push(TimedNote {
             note: Note::new(onset, onset + sounding.max(0.015), n.midi),
             bow_change: !n.slurred_from_previous,
@@ -194,7 +190,6 @@ pub fn perform(score: &Score, seed: u64, tempo_range_bpm: (f64, f64)) -> Played 
         },
         time_signature: ts,
         tempo_bpm_per_beat,
-        on_downbeat,
         double_stops: score.notes.iter().filter(|n| !n.lower.is_empty()).count(),
         timing,
     }
@@ -281,40 +276,28 @@ fn tempo_curve(
     TempoCurve { table }
 }
 
-/// Bow strokes of a fingered timeline: one per bow change. The first stroke, and a stroke
-/// that starts on a downbeat after a rest (a retake, 85 % of the time), is a down-bow; a
-/// first stroke that starts off the downbeat (a pickup) is an up-bow; every other stroke
-/// reverses the one before it.
-pub fn bow_strokes(timeline: &Timeline, on_downbeat: &[bool], seed: u64) -> Vec<BowStroke> {
-    let mut rng = Rng::new(seed);
-    let notes = &timeline.notes;
-    let mut out: Vec<BowStroke> = Vec::new();
-    let mut i = 0;
-    while i < notes.len() {
-        let mut j = i + 1;
-        while j < notes.len() && !notes[j].bow_change {
-            j += 1;
-        }
-        let downbeat = on_downbeat.get(i).copied().unwrap_or(false);
-        let direction = match out.last() {
-            None if downbeat => BowDirection::Down,
-            None => BowDirection::Up,
-            Some(prev) => {
-                let after_rest = notes[i].note.onset_s - prev.end_s > 0.25;
-                if after_rest && downbeat && rng.chance(0.85) {
-                    BowDirection::Down
-                } else {
-                    prev.direction.flipped()
-                }
+/// Bow strokes of a fingered timeline: one per bow change, with the direction the analysis
+/// uses too ([`performance::bow_directions`]: alternation, a pickup starts up-bow, a retake
+/// to down-bow on a downbeat after a rest) and the string of the stroke's first note.
+pub fn bow_strokes(timeline: &Timeline) -> Vec<BowStroke> {
+    let notes: Vec<Note> = timeline.notes.iter().map(|n| n.note).collect();
+    let changes = timeline.bow_changes_s();
+    let directions = bow_directions(&changes, &notes, &timeline.downbeats_s);
+    let starts: Vec<usize> = (0..timeline.notes.len())
+        .filter(|&i| timeline.notes[i].bow_change)
+        .collect();
+    starts
+        .iter()
+        .zip(directions)
+        .enumerate()
+        .map(|(k, (&i, direction))| {
+            let last = starts.get(k + 1).map_or(notes.len(), |&j| j) - 1;
+            BowStroke {
+                start_s: notes[i].onset_s,
+                end_s: notes[last].offset_s,
+                direction,
+                string: notes[i].fingering.map(|f| f.string),
             }
-        };
-        out.push(BowStroke {
-            start_s: notes[i].note.onset_s,
-            end_s: notes[j - 1].note.offset_s,
-            direction,
-            string: notes[i].note.fingering.map(|f| f.string),
-        });
-        i = j;
-    }
-    out
+        })
+        .collect()
 }

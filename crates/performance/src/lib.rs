@@ -60,7 +60,7 @@ pub use error::{PerformanceError, PerformanceFileError};
 pub use matching::{event_prf, f_measure, match_events, Prf};
 pub use meter::{Meter, TimeSignature};
 pub use note::Note;
-pub use stroke::{BowDirection, BowStroke};
+pub use stroke::BowStroke;
 pub use timeline::{arousal_proxy, TimedNote, Timeline};
 
 /// The README's example, compiled and run as a doctest.

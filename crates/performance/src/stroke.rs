@@ -1,27 +1,10 @@
-//! [`BowStroke`]: one stroke of the bow, its direction and the string it plays.
+//! [`BowStroke`]: one stroke of the bow, its direction ([`BowDirection`]) and the string it
+//! plays.
 
 use fingering::ViolinString;
+
+use crate::bowing::BowDirection;
 use serde::{Deserialize, Serialize};
-
-/// Which way the bow moves: down-bow (frog to tip) or up-bow (tip to frog).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum BowDirection {
-    /// Frog to tip (pulled).
-    Down,
-    /// Tip to frog (pushed).
-    Up,
-}
-
-impl BowDirection {
-    /// The other direction.
-    pub fn flipped(self) -> Self {
-        match self {
-            BowDirection::Down => BowDirection::Up,
-            BowDirection::Up => BowDirection::Down,
-        }
-    }
-}
 
 /// One bow stroke: from a bow change (or the first note after a rest) to the next, with its
 /// direction and the string of its first note (`None` when the note has no fingering).
@@ -29,7 +12,7 @@ impl BowDirection {
 /// ```
 /// use performance::{BowDirection, BowStroke};
 /// let s = BowStroke { start_s: 0.5, end_s: 1.0, direction: BowDirection::Down, string: None };
-/// assert_eq!(s.direction.flipped(), BowDirection::Up);
+/// assert_eq!(s.direction.reversed(), BowDirection::Up);
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct BowStroke {
