@@ -83,8 +83,10 @@ impl PreprocConfig {
 pub struct PerformerConfig {
     /// Minimum confident joints (of 10) for a detection to be a candidate at all.
     pub min_confident_joints: usize,
-    /// The performer is the person with the highest summed score over these first frames.
+    /// The performer is the best short track over these first frames.
     pub start_frames: usize,
+    /// Weight of the wrists' activity in the start choice (0: score alone).
+    pub activity_weight: f32,
     /// A candidate follows the performer when its distance is at most this fraction of the
     /// performer's size (bounding-box diagonal).
     pub max_step_fraction: f32,
@@ -101,7 +103,8 @@ impl Default for PerformerConfig {
     fn default() -> Self {
         Self {
             min_confident_joints: 4,
-            start_frames: 30,
+            start_frames: 150,
+            activity_weight: 4.0,
             max_step_fraction: 0.5,
             reacquire_after_frames: 15,
             confirm_frames: 5,
@@ -126,6 +129,12 @@ impl PerformerConfig {
             return bad(format!(
                 "performer.max_step_fraction must be positive, got {}",
                 self.max_step_fraction
+            ));
+        }
+        if !(self.activity_weight.is_finite() && self.activity_weight >= 0.0) {
+            return bad(format!(
+                "performer.activity_weight must be ≥ 0, got {}",
+                self.activity_weight
             ));
         }
         if !(self.min_score_ratio.is_finite() && self.min_score_ratio >= 0.0) {
