@@ -1,6 +1,7 @@
 //! Bow-change F1 (±100 ms) of the labelling rule on synthetic OpenPose clips made from the
 //! project's motion synthesis seen through random cameras (`tests/common/camera_clip.rs`),
-//! per camera set, per camera yaw and per frame rate, beside the original rule (`--axis y`).
+//! per camera set, per camera yaw and per frame rate, beside the original rule (`--axis y`:
+//! `LabelConfig::original()`, the right wrist's image y, run centre).
 //!
 //! ```sh
 //! # tuning seeds
@@ -72,6 +73,11 @@ fn main() {
         .map(PathBuf::from);
     let clean = args.iter().any(|a| a == "--clean");
     let verbose = args.iter().any(|a| a == "--verbose");
+    let change_point: Option<String> = args
+        .iter()
+        .position(|a| a == "--change-point")
+        .and_then(|i| args.get(i + 1))
+        .cloned();
     let only: Option<String> = args
         .iter()
         .position(|a| a == "--only")
@@ -118,8 +124,20 @@ fn main() {
                     fps,
                     ..Default::default()
                 };
-                cfg.labels.axis = axis;
+                if axis == AxisMode::Y {
+                    cfg.labels = pose_preproc::LabelConfig::original();
+                }
                 cfg.labels.threshold_size_per_s = threshold;
+                if m == 0 {
+                    let l = &mut cfg.labels;
+                    l.velocity_median_s = arg(&args, "--median-s", l.velocity_median_s);
+                    l.context_s = arg(&args, "--context-s", l.context_s);
+                    l.lowpass_cutoff_hz = arg(&args, "--cutoff", l.lowpass_cutoff_hz);
+                    l.axis_window_s = arg(&args, "--axis-window-s", l.axis_window_s);
+                    if let Some(cp) = &change_point {
+                        cfg.labels.change_point = serde_json::from_value(serde_json::json!(cp)).unwrap();
+                    }
+                }
                 let t0 = Instant::now();
                 let track = preprocess_dir(&dir, &cfg).unwrap();
                 if m == 0 {

@@ -151,13 +151,17 @@ impl PerformerConfig {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "snake_case")]
 pub enum ChangePoint {
-    /// The frame inside the run where the low-passed wrist y turns (its maximum after an
-    /// upward stroke, its minimum after a downward one): the instant the bow reverses.
-    #[default]
+    /// The frame inside the run where the low-passed track turns (its maximum after a
+    /// rising stroke, its minimum after a falling one). Jitter moves a flat turn around.
     Extremum,
     /// The run's centre, as SPEC §3 words it. Biased towards the slower of the two strokes
     /// when their speeds differ (see the crate README for measurements).
     RunCentre,
+    /// The frame inside the run where the mean velocity of the context after it differs most
+    /// from the mean velocity before it: the corner of the track, found from 2 × context
+    /// frames of velocity, so jitter moves it less than the extremum.
+    #[default]
+    VelocityStep,
 }
 
 /// Which coordinate of the bowing wrist the rule labels.
@@ -229,9 +233,9 @@ impl Default for LabelConfig {
             lowpass_order: 4,
             lowpass_cutoff_hz: 5.0,
             axis_window_s: 4.0,
-            velocity_median_s: 0.5,
+            velocity_median_s: 0.4,
             context_s: 1.0 / 3.0,
-            threshold_size_per_s: 0.15,
+            threshold_size_per_s: 0.12,
             velocity_median_window: 15,
             context_frames: 10,
             threshold_px_per_frame: 1.0,

@@ -6,16 +6,16 @@
 //!    [`AxisMode::Y`] the wrist's image y in pixels (the original rule);
 //! 2. low-pass with a Butterworth filter (order 4, 5 Hz at the clip's fps), zero-phase
 //!    (`filtfilt`, scipy-equal), so labels are not delayed;
-//! 3. velocity `v[t] = s[t+1] − s[t]`, median-filtered (0.5 s, or 15 frames with `Y`);
+//! 3. velocity `v[t] = s[t+1] − s[t]`, median-filtered (0.4 s, or 15 frames with `Y`);
 //! 4. frame `t` is a detection when the mean velocity of the `k` frames before it and of the
 //!    `k` frames after it (`k` = 1/3 s, or 10 frames with `Y`) both exceed the threshold
-//!    (0.15 performer sizes per second, or 1 px per frame with `Y`) in magnitude and have
+//!    (0.12 performer sizes per second, or 1 px per frame with `Y`) in magnitude and have
 //!    opposite signs;
 //! 5. each run of consecutive detections becomes one change frame: by default the frame in
-//!    the run where the low-passed track turns ([`ChangePoint::Extremum`]), or the run's
-//!    centre ([`ChangePoint::RunCentre`], SPEC's wording).
-//!
-//! At 30 fps the windows of both modes are the same frame counts (15 and 10).
+//!    the run where the mean velocity after it differs most from the mean before it
+//!    ([`ChangePoint::VelocityStep`]); or where the low-passed track turns
+//!    ([`ChangePoint::Extremum`]); or the run's centre ([`ChangePoint::RunCentre`], SPEC's
+//!    wording).
 
 use dsp_mel::filters::{filtfilt, median_filter, Butterworth, EdgeMode};
 use serde::{Deserialize, Serialize};
@@ -130,6 +130,22 @@ fn change_points(
     runs.iter()
         .map(|&(first, last)| match mode {
             ChangePoint::RunCentre => (first + last) / 2,
+            ChangePoint::VelocityStep => {
+                // The frame where the mean velocity of the `context` frames after it differs
+                // most from that of the `context` frames before it.
+                let n = velocity.len();
+                let k = context.max(1);
+                let mut best = (f64::NEG_INFINITY, first);
+                for t in first.max(k)..=last.min(n.saturating_sub(k)) {
+                    let before: f64 = velocity[t - k..t].iter().sum();
+                    let after: f64 = velocity[t..t + k].iter().sum();
+                    let step = (after - before).abs();
+                    if step > best.0 {
+                        best = (step, t);
+                    }
+                }
+                best.1
+            }
             ChangePoint::Extremum => {
                 // Rising before the change (velocity > 0) → the change is the maximum.
                 let before: f64 = velocity[first.saturating_sub(context)..first].iter().sum();
@@ -325,13 +341,49 @@ mod tests {
     #[test]
     fn symmetric_strokes_give_exact_changes_both_ways() {
         let y = triangle(&[40, 80, 120], 160, 4.0);
-        for mode in [ChangePoint::Extremum, ChangePoint::RunCentre] {
+        for mode in [
+            ChangePoint::Extremum,
+            ChangePoint::RunCentre,
+            ChangePoint::VelocityStep,
+        ] {
             let cfg = LabelConfig {
                 change_point: mode,
                 ..Default::default()
             };
             let got = bow_changes_from_y(&y, 30.0, &cfg).unwrap();
             assert_eq!(got, vec![39, 79, 119], "{mode:?}");
+        }
+    }
+
+    #[test]
+    fn axis_y_is_the_original_rule_on_the_right_wrist() {
+        use ndarray::Array3;
+        // A body whose right wrist strokes diagonally and left wrist strokes vertically.
+        let n = 200;
+        let y = triangle(&[37, 90, 131, 170], n, 3.0);
+        let left = triangle(&[50, 100, 150], n, 1.5);
+        let mut frames = Array3::<f32>::zeros((n, skeleton::JOINT_COUNT, 2));
+        for t in 0..n {
+            for j in 0..skeleton::JOINT_COUNT {
+                frames[[t, j, 0]] = 100.0 + 10.0 * j as f32;
+                frames[[t, j, 1]] = 20.0 * j as f32;
+            }
+            frames[[t, 4, 0]] = 300.0 - 0.7 * y[t] as f32;
+            frames[[t, 4, 1]] = 100.0 + y[t] as f32;
+            frames[[t, 7, 1]] = 100.0 + left[t] as f32;
+        }
+        let motion = Motion::new(30.0, frames).unwrap();
+        let original = LabelConfig::original();
+        let got = label_motion(&motion, &original, None).unwrap();
+        let right_y: Vec<f64> = (0..n).map(|t| f64::from(motion.frames()[[t, 4, 1]])).collect();
+        assert_eq!(got.frames, bow_changes_from_y(&right_y, 30.0, &original).unwrap());
+        assert_eq!((got.arm, got.axis), (Arm::Right, AxisMode::Y));
+        // The default finds the right arm (it moves most along a line) and the same changes.
+        let found = label_motion(&motion, &LabelConfig::default(), None).unwrap();
+        assert_eq!(found.arm, Arm::Right);
+        assert_eq!(found.frames.len(), 4);
+        for (a, b) in found.frames.iter().zip([37, 90, 131, 170]) {
+            assert!(a.abs_diff(b) <= 2, "{:?}", found.frames);
         }
     }
 

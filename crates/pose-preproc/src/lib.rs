@@ -39,6 +39,7 @@ pub mod performer;
 mod pipeline;
 mod quality;
 pub mod read;
+pub mod resample;
 pub mod swap;
 
 pub use axis::Arm;

@@ -116,6 +116,22 @@ pub fn preprocess_poses(raw: &RawPoses, cfg: &PreprocConfig) -> Result<PoseTrack
     smooth(&mut motion, cfg.median_window)?;
 
     let mut notes = Vec::new();
+    if !raw.skipped.is_empty() {
+        let shown: Vec<&str> = raw.skipped.iter().take(5).map(String::as_str).collect();
+        notes.push(format!(
+            "skipped {} entries: {}{}",
+            raw.skipped.len(),
+            shown.join(", "),
+            if raw.skipped.len() > 5 { ", …" } else { "" }
+        ));
+    }
+    if let Some(file) = &raw.first_bad_keypoint_file {
+        notes.push(format!(
+            "{} keypoints with a negative or non-numeric (NaN/Infinity) value were dropped as missing, the first in {}",
+            raw.bad_keypoints,
+            file.display()
+        ));
+    }
     if raw.missing_frame_files > 0 {
         notes.push(format!(
             "{} frame numbers had no file; they were filled like frames without a performer",
