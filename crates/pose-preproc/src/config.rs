@@ -83,7 +83,8 @@ impl PreprocConfig {
 pub struct PerformerConfig {
     /// Minimum confident joints (of 10) for a detection to be a candidate at all.
     pub min_confident_joints: usize,
-    /// The performer is the best short track over these first frames.
+    /// The performer is the best track over these first frames (default: the whole clip, so
+    /// persistence counts and a bystander who is there only at the start is not chosen).
     pub start_frames: usize,
     /// Weight of the wrists' activity in the start choice (0: score alone).
     pub activity_weight: f32,
@@ -103,7 +104,7 @@ impl Default for PerformerConfig {
     fn default() -> Self {
         Self {
             min_confident_joints: 4,
-            start_frames: 150,
+            start_frames: 1_000_000,
             activity_weight: 4.0,
             max_step_fraction: 0.5,
             reacquire_after_frames: 15,

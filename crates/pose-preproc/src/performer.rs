@@ -7,8 +7,8 @@
 //!    ten joints have confidence ≥ the threshold. Its *score* is the mean confidence of the
 //!    ten joints × the diagonal (px) of the bounding box of its confident joints, so large,
 //!    confident people score high.
-//! 2. **Start.** Over the first `start_frames` frames (from the first frame with a candidate),
-//!    candidates are linked frame to frame into short tracks (nearest first, one-to-one,
+//! 2. **Start.** Over the first `start_frames` frames (from the first frame with a candidate;
+//!    by default the whole clip), candidates are linked frame to frame into tracks (nearest first, one-to-one,
 //!    within the step gate; a track unmatched for `reacquire_after_frames` ends). Each track's
 //!    value is its *summed* score × (1 + `activity_weight` × its wrists' activity), the
 //!    activity being the larger wrist's spread relative to the neck in units of the track's
@@ -212,7 +212,7 @@ impl Activity {
     }
 }
 
-/// The first pose of the best short track in the first frames (step 2).
+/// The first pose of the best track in the first `start_frames` frames (step 2).
 fn start_anchor(
     frames: &[Vec<Detection>],
     threshold: f32,
@@ -221,7 +221,7 @@ fn start_anchor(
     let first = frames
         .iter()
         .position(|people| !candidates(people, threshold, cfg).is_empty())?;
-    let end = frames.len().min(first + cfg.start_frames);
+    let end = frames.len().min(first.saturating_add(cfg.start_frames));
     // (current pose, summed score, first pose, wrist activity)
     let mut tracks: Vec<(Anchor, f32, Anchor, Activity)> = Vec::new();
     for (t, people) in frames.iter().enumerate().take(end).skip(first) {
