@@ -6,9 +6,9 @@
 //!
 //! Each left/right pair (shoulders, elbows, wrists, hips) is followed on its own: in every
 //! frame where the pair's joints are confident, the pair is swapped when the swapped
-//! assignment lies closer to the pair's last known positions than the given one (both
-//! joints, or the one that is confident, which must then be less than half as far from the
-//! other side). The decisions form a chain from the first frame, so afterwards the
+//! assignment lies less than half as far from the pair's last known positions as the given
+//! one (both joints, or the one that is confident), so that jitter on two nearby joints does
+//! not swap them. The decisions form a chain from the first frame, so afterwards the
 //! labelling that holds in the majority of frames is kept: when most frames of a pair were
 //! swapped, the chain started on a swapped frame and every decision of that pair is inverted.
 
@@ -23,6 +23,10 @@ const PAIRS: [(Joint, Joint); 4] = [
     (Joint::RWrist, Joint::LWrist),
     (Joint::RHip, Joint::LHip),
 ];
+
+/// A pair is swapped only when the swapped assignment is at most this fraction of the given
+/// one's distance: jitter on two nearby joints (the wrists in a side view) must not swap them.
+const SWAP_MARGIN: f32 = 0.5;
 
 fn dist(a: [f32; 2], b: [f32; 2]) -> f32 {
     (a[0] - b[0]).hypot(a[1] - b[1])
@@ -45,10 +49,10 @@ pub fn fix_left_right_swaps(performer: &mut [Option<Detection>], threshold: f32)
             let (xr, xl) = ([pr[0], pr[1]], [pl[0], pl[1]]);
             let s = match (cr, cl, last) {
                 (true, true, [Some(lr), Some(ll)]) => {
-                    dist(xr, ll) + dist(xl, lr) < dist(xr, lr) + dist(xl, ll)
+                    dist(xr, ll) + dist(xl, lr) < SWAP_MARGIN * (dist(xr, lr) + dist(xl, ll))
                 }
-                (true, false, [Some(lr), Some(ll)]) => dist(xr, ll) < 0.5 * dist(xr, lr),
-                (false, true, [Some(lr), Some(ll)]) => dist(xl, lr) < 0.5 * dist(xl, ll),
+                (true, false, [Some(lr), Some(ll)]) => dist(xr, ll) < SWAP_MARGIN * dist(xr, lr),
+                (false, true, [Some(lr), Some(ll)]) => dist(xl, lr) < SWAP_MARGIN * dist(xl, ll),
                 _ => false,
             };
             swap[t] = s;
