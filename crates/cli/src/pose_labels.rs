@@ -7,9 +7,7 @@ use std::time::Instant;
 
 use clap::{Args, ValueEnum};
 use pose_preproc::resample::resample;
-use pose_preproc::{
-    preprocess_dir, AxisMode, BowArmChoice, ChangePoint, PoseTrack, PreprocConfig,
-};
+use pose_preproc::{preprocess_dir, AxisMode, BowArmChoice, ChangePoint, PoseTrack, PreprocConfig};
 use violin_skeleton::skeleton::{Motion, MotionFormat};
 
 use crate::error::CliError;
@@ -101,7 +99,10 @@ fn positive(name: &str, v: f64, what: &str) -> Result<(), CliError> {
 
 /// Runs `pose-labels`.
 pub fn run(args: &PoseLabelsArgs, report: &Reporter) -> Result<(), CliError> {
-    for (name, v) in [("--threshold-px", args.threshold_px), ("--threshold", args.threshold)] {
+    for (name, v) in [
+        ("--threshold-px", args.threshold_px),
+        ("--threshold", args.threshold),
+    ] {
         if !(v.is_finite() && v >= 0.0) {
             return Err(CliError::Usage(format!(
                 "{name} {v}: expected a number ≥ 0"
@@ -256,7 +257,9 @@ fn write_labels(track: &PoseTrack, skeleton: &Motion, w: &mut dyn Write) -> std:
             w.write_all(b",\"confidence\":")?;
             serde_json::to_writer(&mut *w, &conf)?;
         }
-        None => w.write_all(b",\"bow_arm\":null,\"axis\":null,\"size_px\":null,\"confidence\":[]")?,
+        None => {
+            w.write_all(b",\"bow_arm\":null,\"axis\":null,\"size_px\":null,\"confidence\":[]")?
+        }
     }
     w.write_all(b",\"skeleton_fps\":")?;
     number(w, skeleton.fps())?;

@@ -96,7 +96,10 @@ fn writes_labels_skeleton_and_quality() {
 
     // --quiet prints nothing; the threshold flags are honoured: nothing moves 5 px/frame
     // (--axis y) or 1 torso length per second (the wrist: 120 px/s, the torso 238 px).
-    for flags in [["--axis", "y", "--threshold-px", "5"], ["--axis", "bow", "--threshold", "1"]] {
+    for flags in [
+        ["--axis", "y", "--threshold-px", "5"],
+        ["--axis", "bow", "--threshold", "1"],
+    ] {
         let st = cli()
             .args(["--quiet", "pose-labels", pose.to_str().unwrap()])
             .args(flags)
@@ -121,7 +124,15 @@ fn schema_2_fields_frame_rates_and_resampling() {
     // The same files said to be 60 fps: changes at the same frames, half the seconds; the
     // skeleton resampled to 30 fps has half the frames.
     let st = cli()
-        .args(["pose-labels", pose.to_str().unwrap(), "--fps", "60", "--skeleton-fps", "30", "-o"])
+        .args([
+            "pose-labels",
+            pose.to_str().unwrap(),
+            "--fps",
+            "60",
+            "--skeleton-fps",
+            "30",
+            "-o",
+        ])
         .arg(&labels)
         .output()
         .unwrap();
@@ -158,7 +169,10 @@ fn schema_2_fields_frame_rates_and_resampling() {
         assert!(st.status.success());
         let v: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(&labels).unwrap()).unwrap();
-        assert_eq!((v["bow_arm"].as_str(), v["axis"].as_str()), (Some(arm), Some(axis)));
+        assert_eq!(
+            (v["bow_arm"].as_str(), v["axis"].as_str()),
+            (Some(arm), Some(axis))
+        );
         let n = v["bow_change_frames"].as_array().unwrap().len();
         assert_eq!(n, if arm == "left" { 0 } else { 2 }, "{flags:?}");
     }

@@ -33,7 +33,11 @@ fn arg(args: &[String], name: &str) -> Option<String> {
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
-    let Some(dir) = args.get(1).filter(|a| !a.starts_with("--")).map(PathBuf::from) else {
+    let Some(dir) = args
+        .get(1)
+        .filter(|a| !a.starts_with("--"))
+        .map(PathBuf::from)
+    else {
         eprintln!("usage: camera_openpose DIR [--kind frontal|side|mirrored|25|random] [--seed N] [--duration S] [--fps F]");
         std::process::exit(2);
     };

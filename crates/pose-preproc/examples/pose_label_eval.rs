@@ -94,7 +94,10 @@ fn main() {
     let mut frames_total = 0usize;
     let mut seconds = 0.0f64;
     for (k, kind) in CameraKind::ALL.into_iter().enumerate() {
-        if only.as_ref().is_some_and(|o| !kind.name().starts_with(o.as_str())) {
+        if only
+            .as_ref()
+            .is_some_and(|o| !kind.name().starts_with(o.as_str()))
+        {
             continue;
         }
         for i in 0..clips {
@@ -105,7 +108,8 @@ fn main() {
             }
             for (i, a) in args.iter().enumerate() {
                 if a == "--without" {
-                    spec.troubles.disable(args.get(i + 1).map_or("", String::as_str));
+                    spec.troubles
+                        .disable(args.get(i + 1).map_or("", String::as_str));
                 }
             }
             let clip = generate_clip(&spec);
@@ -135,7 +139,8 @@ fn main() {
                     l.lowpass_cutoff_hz = arg(&args, "--cutoff", l.lowpass_cutoff_hz);
                     l.axis_window_s = arg(&args, "--axis-window-s", l.axis_window_s);
                     if let Some(cp) = &change_point {
-                        cfg.labels.change_point = serde_json::from_value(serde_json::json!(cp)).unwrap();
+                        cfg.labels.change_point =
+                            serde_json::from_value(serde_json::json!(cp)).unwrap();
                     }
                 }
                 let t0 = Instant::now();
@@ -174,7 +179,9 @@ fn main() {
             let [Some(new), Some(old)] = cells else {
                 unreachable!()
             };
-            let yaw_bin = ((spec.camera.yaw_deg + 90.0) / 30.0).floor().clamp(0.0, 5.0) as i32;
+            let yaw_bin = ((spec.camera.yaw_deg + 90.0) / 30.0)
+                .floor()
+                .clamp(0.0, 5.0) as i32;
             for map_entry in [
                 by_set.entry(k).or_default(),
                 by_yaw.entry(yaw_bin).or_default(),
@@ -228,7 +235,12 @@ fn main() {
     }
     println!("\n| fps | clips | F1 (bow axis) | F1 (--axis y) |\n|---|---|---|---|");
     for (fps, [new, old]) in &by_fps {
-        println!("| {fps} | {} | {:.3} | {:.3} |", new.clips, new.f1(), old.f1());
+        println!(
+            "| {fps} | {} | {:.3} | {:.3} |",
+            new.clips,
+            new.f1(),
+            old.f1()
+        );
     }
     println!(
         "\nbowing arm right in {arm_right}/{clips_total} clips; labelling {:.0} frames/s (read + clean + label, debug or release as built)",

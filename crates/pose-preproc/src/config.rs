@@ -263,7 +263,11 @@ impl LabelConfig {
             AxisMode::Y => (self.velocity_median_window, self.context_frames),
             AxisMode::Bow => {
                 let median = ((self.velocity_median_s * fps).round() as usize).max(1);
-                let median = if median % 2 == 0 { median + 1 } else { median };
+                let median = if median.is_multiple_of(2) {
+                    median + 1
+                } else {
+                    median
+                };
                 let context = ((self.context_s * fps).round() as usize).max(1);
                 (median, context)
             }

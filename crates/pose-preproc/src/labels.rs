@@ -169,7 +169,7 @@ pub fn bow_changes_from_track(
     rule: &RuleFrames,
     cfg: &LabelConfig,
 ) -> Result<Vec<usize>> {
-    if rule.median_window % 2 == 0 {
+    if rule.median_window.is_multiple_of(2) {
         return Err(PosePreprocError::InvalidConfig(format!(
             "velocity median window must be odd, got {}",
             rule.median_window
@@ -375,8 +375,13 @@ mod tests {
         let motion = Motion::new(30.0, frames).unwrap();
         let original = LabelConfig::original();
         let got = label_motion(&motion, &original, None).unwrap();
-        let right_y: Vec<f64> = (0..n).map(|t| f64::from(motion.frames()[[t, 4, 1]])).collect();
-        assert_eq!(got.frames, bow_changes_from_y(&right_y, 30.0, &original).unwrap());
+        let right_y: Vec<f64> = (0..n)
+            .map(|t| f64::from(motion.frames()[[t, 4, 1]]))
+            .collect();
+        assert_eq!(
+            got.frames,
+            bow_changes_from_y(&right_y, 30.0, &original).unwrap()
+        );
         assert_eq!((got.arm, got.axis), (Arm::Right, AxisMode::Y));
         // The default finds the right arm (it moves most along a line) and the same changes.
         let found = label_motion(&motion, &LabelConfig::default(), None).unwrap();

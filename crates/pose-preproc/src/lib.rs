@@ -43,7 +43,9 @@ pub mod resample;
 pub mod swap;
 
 pub use axis::Arm;
-pub use config::{AxisMode, BowArmChoice, ChangePoint, LabelConfig, PerformerConfig, PreprocConfig};
+pub use config::{
+    AxisMode, BowArmChoice, ChangePoint, LabelConfig, PerformerConfig, PreprocConfig,
+};
 pub use error::{PosePreprocError, Result};
 pub use labels::{bow_change_labels, bow_change_labels_checked, label_motion, BowLabels};
 pub use pipeline::{preprocess_dir, preprocess_poses, PoseTrack};

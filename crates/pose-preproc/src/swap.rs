@@ -97,7 +97,11 @@ mod tests {
                 Joint::LShoulder | Joint::LElbow | Joint::LWrist | Joint::LHip => 1.0,
                 _ => 0.0,
             };
-            joints[j.index()] = [500.0 + 100.0 * side + t as f32, 300.0 + j.index() as f32, 0.9];
+            joints[j.index()] = [
+                500.0 + 100.0 * side + t as f32,
+                300.0 + j.index() as f32,
+                0.9,
+            ];
         }
         Detection { joints }
     }

@@ -241,7 +241,9 @@ fn nan_infinity_and_negative_coordinates_are_dropped_and_reported() {
     // Python's json module writes NaN and Infinity as bare tokens.
     let nan = dir.path().join("v_000000000005_keypoints.json");
     let text = std::fs::read_to_string(&nan).unwrap();
-    let text = text.replacen("500.0", "NaN", 1).replacen("0.9", "Infinity", 1);
+    let text = text
+        .replacen("500.0", "NaN", 1)
+        .replacen("0.9", "Infinity", 1);
     std::fs::write(&nan, text).unwrap();
     let mut p = person(25, 0.9);
     p["pose_keypoints_2d"][3 * 4] = json!(-12.0);
@@ -255,7 +257,10 @@ fn nan_infinity_and_negative_coordinates_are_dropped_and_reported() {
         .find(|n| n.contains("negative or non-numeric"))
         .expect("a note");
     assert!(note.contains("v_000000000005_keypoints.json"), "{note}");
-    assert!(note.starts_with("2 keypoints") || note.starts_with("3 keypoints"), "{note}");
+    assert!(
+        note.starts_with("2 keypoints") || note.starts_with("3 keypoints"),
+        "{note}"
+    );
 }
 
 #[test]
@@ -273,7 +278,10 @@ fn files_that_are_not_frames_are_skipped_and_named() {
         .iter()
         .find(|n| n.starts_with("skipped 2 entries"))
         .expect("a note");
-    assert!(note.contains("video.mp4") && note.contains("settings.json"), "{note}");
+    assert!(
+        note.contains("video.mp4") && note.contains("settings.json"),
+        "{note}"
+    );
     // A .json frame file that is not JSON is an error naming it.
     std::fs::write(dir.path().join("v_000000000003_keypoints.json"), b"\x89PNG").unwrap();
     let e = run(dir.path());

@@ -49,7 +49,11 @@ fn every_camera_set_is_labelled_and_the_bow_arm_found() {
         let (f1, arm) = score(&spec, AxisMode::Bow);
         println!("{}: F1 {f1:.3}, arm {arm:?}", kind.name());
         assert!(f1 >= 0.7, "{}: F1 {f1:.3}", kind.name());
-        let want = if spec.camera.mirror { Arm::Left } else { Arm::Right };
+        let want = if spec.camera.mirror {
+            Arm::Left
+        } else {
+            Arm::Right
+        };
         assert_eq!(arm, Some(want), "{}", kind.name());
     }
 }

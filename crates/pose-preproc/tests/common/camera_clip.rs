@@ -271,7 +271,12 @@ pub fn generate_clip(spec: &ClipSpec) -> CameraClip {
         .sum::<f64>()
         / n.max(1) as f64;
     let mean = |c: usize| {
-        frames.iter().skip(c).step_by(2).map(|&v| f64::from(v)).sum::<f64>()
+        frames
+            .iter()
+            .skip(c)
+            .step_by(2)
+            .map(|&v| f64::from(v))
+            .sum::<f64>()
             / (n * JOINT_COUNT).max(1) as f64
     };
     let roll = cam.roll_deg.to_radians();
@@ -280,8 +285,16 @@ pub fn generate_clip(spec: &ClipSpec) -> CameraClip {
         scale: cam.height_px / span.max(1.0),
         from: [mean(0), mean(1)],
         to: [
-            between(&mut rng, margin.min(WIDTH / 2.0), (WIDTH - margin).max(WIDTH / 2.0)),
-            between(&mut rng, (0.8 * margin).min(HEIGHT / 2.0), (HEIGHT - 0.8 * margin).max(HEIGHT / 2.0)),
+            between(
+                &mut rng,
+                margin.min(WIDTH / 2.0),
+                (WIDTH - margin).max(WIDTH / 2.0),
+            ),
+            between(
+                &mut rng,
+                (0.8 * margin).min(HEIGHT / 2.0),
+                (HEIGHT - 0.8 * margin).max(HEIGHT / 2.0),
+            ),
         ],
         cos: roll.cos(),
         sin: roll.sin(),

@@ -158,11 +158,23 @@ pub fn add_troubles(
     }
     // Where the performer stands: hips' midpoint, mean over the clip.
     let (rh, lh) = (Joint::RHip.index(), Joint::LHip.index());
-    let px = truth.iter().map(|p| (p[rh][0] + p[lh][0]) / 2.0).sum::<f32>() / n as f32;
-    let py = truth.iter().map(|p| (p[rh][1] + p[lh][1]) / 2.0).sum::<f32>() / n as f32;
+    let px = truth
+        .iter()
+        .map(|p| (p[rh][0] + p[lh][0]) / 2.0)
+        .sum::<f32>()
+        / n as f32;
+    let py = truth
+        .iter()
+        .map(|p| (p[rh][1] + p[lh][1]) / 2.0)
+        .sum::<f32>()
+        / n as f32;
     let elsewhere = |rng: &mut Rng| {
         let away = h * (1.0 + 0.8 * rng.uniform());
-        let x = if px > WIDTH as f32 / 2.0 { px - away } else { px + away };
+        let x = if px > WIDTH as f32 / 2.0 {
+            px - away
+        } else {
+            px + away
+        };
         (x, py + 0.2 * h * (rng.uniform() - 0.5))
     };
     let mut others: Vec<Vec<Option<[[f32; 2]; JOINT_COUNT]>>> = Vec::new();
