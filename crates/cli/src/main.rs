@@ -49,7 +49,8 @@ enum Command {
     Features(features::FeaturesArgs),
     /// Make a synthetic violin corpus with exact labels (audio, notes, bow changes, beats, arousal, motion).
     Corpus(corpus_cmd::CorpusArgs),
-    /// OpenPose JSON directory → cleaned 10-joint skeleton + bow-change frames (labels.json).
+    /// OpenPose JSON directory → cleaned 10-joint skeleton + bow-change frames and seconds
+    /// (labels.json); bowing arm and bow axis found in the data, any camera and frame rate.
     PoseLabels(pose_labels::PoseLabelsArgs),
     /// Analyse a recording or MIDI file: f0, notes with fingering, bow changes, beats, downbeats, meter, arousal (analysis.json).
     Analyze(analyze::AnalyzeArgs),

@@ -94,24 +94,103 @@ fn writes_labels_skeleton_and_quality() {
         .unwrap() as f32;
     assert_eq!(motion.joint(Joint::RWrist)[[40, 1]], r_wrist_y_40);
 
-    // --quiet prints nothing; the threshold flag is honoured (nothing moves 5 px/frame).
+    // --quiet prints nothing; the threshold flags are honoured: nothing moves 5 px/frame
+    // (--axis y) or 1 torso length per second (the wrist: 120 px/s, the torso 238 px).
+    for flags in [
+        ["--axis", "y", "--threshold-px", "5"],
+        ["--axis", "bow", "--threshold", "1"],
+    ] {
+        let st = cli()
+            .args(["--quiet", "pose-labels", pose.to_str().unwrap()])
+            .args(flags)
+            .arg("-o")
+            .arg(&labels)
+            .output()
+            .unwrap();
+        assert!(st.status.success());
+        assert!(st.stderr.is_empty());
+        let v: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&labels).unwrap()).unwrap();
+        assert_eq!(v["bow_change_frames"], serde_json::json!([]), "{flags:?}");
+    }
+}
+
+#[test]
+fn schema_2_fields_frame_rates_and_resampling() {
+    let root = tempfile::tempdir().unwrap();
+    let pose = root.path().join("pose");
+    write_strokes(&pose, 120);
+    let labels = root.path().join("labels.json");
+    // The same files said to be 60 fps: changes at the same frames, half the seconds; the
+    // skeleton resampled to 30 fps has half the frames.
     let st = cli()
         .args([
-            "--quiet",
             "pose-labels",
             pose.to_str().unwrap(),
-            "--threshold-px",
-            "5",
+            "--fps",
+            "60",
+            "--skeleton-fps",
+            "30",
             "-o",
         ])
         .arg(&labels)
         .output()
         .unwrap();
-    assert!(st.status.success());
-    assert!(st.stderr.is_empty());
+    let stderr = String::from_utf8_lossy(&st.stderr);
+    assert!(st.status.success(), "{stderr}");
+    assert!(stderr.contains("bowing arm: right"), "{stderr}");
     let v: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&labels).unwrap()).unwrap();
-    assert_eq!(v["bow_change_frames"], serde_json::json!([]));
+    assert_eq!(v["schema_version"], 2);
+    assert_eq!(v["fps"], 60);
+    assert_eq!(v["skeleton_fps"], 30);
+    assert_eq!(v["bow_arm"], "right");
+    assert_eq!(v["axis"], "bow");
+    assert_eq!(v["skeleton"].as_array().unwrap().len(), 60);
+    assert_eq!(v["confidence"].as_array().unwrap().len(), 120);
+    let frames = v["bow_change_frames"].as_array().unwrap();
+    let seconds = v["bow_change_s"].as_array().unwrap();
+    assert_eq!(frames.len(), 2, "{v}");
+    for (f, s) in frames.iter().zip(seconds) {
+        assert!((f.as_f64().unwrap() / 60.0 - s.as_f64().unwrap()).abs() < 1e-3);
+    }
+    // --bow-arm left labels the other (still) wrist: no changes; --axis y is the original.
+    for (flags, arm, axis) in [
+        (["--bow-arm", "left"], "left", "bow"),
+        (["--axis", "y"], "right", "y"),
+    ] {
+        let st = cli()
+            .args(["pose-labels", pose.to_str().unwrap()])
+            .args(flags)
+            .arg("-o")
+            .arg(&labels)
+            .output()
+            .unwrap();
+        assert!(st.status.success());
+        let v: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&labels).unwrap()).unwrap();
+        assert_eq!(
+            (v["bow_arm"].as_str(), v["axis"].as_str()),
+            (Some(arm), Some(axis))
+        );
+        let n = v["bow_change_frames"].as_array().unwrap().len();
+        assert_eq!(n, if arm == "left" { 0 } else { 2 }, "{flags:?}");
+    }
+    // A frame rate of 0 or below is a usage error (exit 2), on one line.
+    for fps in ["0", "-25", "nan"] {
+        for flag in ["--fps", "--skeleton-fps"] {
+            let st = cli()
+                .args(["pose-labels", pose.to_str().unwrap(), flag, fps, "-o"])
+                .arg(root.path().join("never.json"))
+                .output()
+                .unwrap();
+            assert_eq!(st.status.code(), Some(2), "{flag} {fps}");
+            let err = String::from_utf8_lossy(&st.stderr);
+            assert_eq!(err.lines().count(), 1, "{err}");
+            assert!(err.contains(flag), "{err}");
+        }
+    }
+    assert!(!root.path().join("never.json").exists());
 }
 
 #[test]

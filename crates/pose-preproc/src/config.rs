@@ -83,8 +83,11 @@ impl PreprocConfig {
 pub struct PerformerConfig {
     /// Minimum confident joints (of 10) for a detection to be a candidate at all.
     pub min_confident_joints: usize,
-    /// The performer is the person with the highest summed score over these first frames.
+    /// The performer is the best track over these first frames (default: the whole clip, so
+    /// persistence counts and a bystander who is there only at the start is not chosen).
     pub start_frames: usize,
+    /// Weight of the wrists' activity in the start choice (0: score alone).
+    pub activity_weight: f32,
     /// A candidate follows the performer when its distance is at most this fraction of the
     /// performer's size (bounding-box diagonal).
     pub max_step_fraction: f32,
@@ -101,7 +104,8 @@ impl Default for PerformerConfig {
     fn default() -> Self {
         Self {
             min_confident_joints: 4,
-            start_frames: 30,
+            start_frames: 1_000_000,
+            activity_weight: 4.0,
             max_step_fraction: 0.5,
             reacquire_after_frames: 15,
             confirm_frames: 5,
@@ -128,6 +132,12 @@ impl PerformerConfig {
                 self.max_step_fraction
             ));
         }
+        if !(self.activity_weight.is_finite() && self.activity_weight >= 0.0) {
+            return bad(format!(
+                "performer.activity_weight must be ≥ 0, got {}",
+                self.activity_weight
+            ));
+        }
         if !(self.min_score_ratio.is_finite() && self.min_score_ratio >= 0.0) {
             return bad(format!(
                 "performer.min_score_ratio must be ≥ 0, got {}",
@@ -142,28 +152,75 @@ impl PerformerConfig {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "snake_case")]
 pub enum ChangePoint {
-    /// The frame inside the run where the low-passed wrist y turns (its maximum after an
-    /// upward stroke, its minimum after a downward one): the instant the bow reverses.
-    #[default]
+    /// The frame inside the run where the low-passed track turns (its maximum after a
+    /// rising stroke, its minimum after a falling one). Jitter moves a flat turn around.
     Extremum,
     /// The run's centre, as SPEC §3 words it. Biased towards the slower of the two strokes
     /// when their speeds differ (see the crate README for measurements).
     RunCentre,
+    /// The frame inside the run where the mean velocity of the context after it differs most
+    /// from the mean velocity before it: the corner of the track, found from 2 × context
+    /// frames of velocity, so jitter moves it less than the extremum.
+    #[default]
+    VelocityStep,
 }
 
-/// The bow-change rule of SPEC §3 on the right-wrist y track.
+/// Which coordinate of the bowing wrist the rule labels.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum AxisMode {
+    /// The coordinate along the bow axis found in the data, relative to the neck; windows in
+    /// seconds, threshold in performer sizes per second (SPEC §3).
+    #[default]
+    Bow,
+    /// The original rule: the wrist's image y, windows in frames, threshold in pixels per
+    /// frame (the right wrist unless the arm is given).
+    Y,
+}
+
+/// Which arm bows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum BowArmChoice {
+    /// Found from the data ([`crate::axis::find_bow_arm`]); with [`AxisMode::Y`], the right.
+    #[default]
+    Auto,
+    /// The pose estimator's right arm.
+    Right,
+    /// The pose estimator's left arm (mirrored video, left-handed player).
+    Left,
+}
+
+/// The bow-change rule of SPEC §3.
+///
+/// With [`AxisMode::Bow`] (default) the frame-rate-independent fields (`*_s`,
+/// `threshold_size_per_s`) apply; with [`AxisMode::Y`] the original's frame and pixel fields
+/// (`velocity_median_window`, `context_frames`, `threshold_px_per_frame`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
 pub struct LabelConfig {
+    /// The labelled coordinate.
+    pub axis: AxisMode,
+    /// The bowing arm.
+    pub bow_arm: BowArmChoice,
     /// Butterworth low-pass order.
     pub lowpass_order: usize,
-    /// Butterworth cutoff, Hz (the sample rate is the motion's fps).
+    /// Butterworth cutoff, Hz (the sample rate is the clip's fps).
     pub lowpass_cutoff_hz: f64,
-    /// Median window (odd) applied to the velocity.
+    /// Window of the bow-axis estimate, seconds.
+    pub axis_window_s: f64,
+    /// Median window applied to the velocity, seconds (rounded to an odd frame count).
+    pub velocity_median_s: f64,
+    /// Time averaged before and after a candidate frame, seconds (rounded to frames).
+    pub context_s: f64,
+    /// Both mean speeds must exceed this, in performer sizes (torso lengths) per second.
+    pub threshold_size_per_s: f64,
+    /// [`AxisMode::Y`]: median window (odd) applied to the velocity, frames.
     pub velocity_median_window: usize,
-    /// Frames averaged before and after a candidate frame.
+    /// [`AxisMode::Y`]: frames averaged before and after a candidate frame.
     pub context_frames: usize,
-    /// Both mean velocities must exceed this, in pixels of the source video per frame.
+    /// [`AxisMode::Y`]: both mean velocities must exceed this, pixels of the source video per
+    /// frame.
     pub threshold_px_per_frame: f64,
     /// Where a run of detections places its change.
     pub change_point: ChangePoint,
@@ -172,8 +229,14 @@ pub struct LabelConfig {
 impl Default for LabelConfig {
     fn default() -> Self {
         Self {
+            axis: AxisMode::Bow,
+            bow_arm: BowArmChoice::Auto,
             lowpass_order: 4,
             lowpass_cutoff_hz: 5.0,
+            axis_window_s: 4.0,
+            velocity_median_s: 0.4,
+            context_s: 1.0 / 3.0,
+            threshold_size_per_s: 0.12,
             velocity_median_window: 15,
             context_frames: 10,
             threshold_px_per_frame: 1.0,
@@ -183,6 +246,34 @@ impl Default for LabelConfig {
 }
 
 impl LabelConfig {
+    /// The original rule of SPEC §3 (right wrist's image y, 15- and 10-frame windows, 1 px
+    /// per frame), with the change point at the run's centre as SPEC words it.
+    pub fn original() -> Self {
+        Self {
+            axis: AxisMode::Y,
+            change_point: ChangePoint::RunCentre,
+            ..Self::default()
+        }
+    }
+
+    /// `(median window, context)` in frames at `fps`: the `*_s` fields for [`AxisMode::Bow`]
+    /// (median window made odd, both at least 1), the frame fields for [`AxisMode::Y`].
+    pub fn windows_frames(&self, fps: f64) -> (usize, usize) {
+        match self.axis {
+            AxisMode::Y => (self.velocity_median_window, self.context_frames),
+            AxisMode::Bow => {
+                let median = ((self.velocity_median_s * fps).round() as usize).max(1);
+                let median = if median.is_multiple_of(2) {
+                    median + 1
+                } else {
+                    median
+                };
+                let context = ((self.context_s * fps).round() as usize).max(1);
+                (median, context)
+            }
+        }
+    }
+
     /// Checks every value, naming the first one out of range.
     pub fn validate(&self) -> Result<()> {
         let bad = |what: String| Err(PosePreprocError::InvalidConfig(what));
@@ -206,6 +297,21 @@ impl LabelConfig {
         }
         if self.context_frames == 0 {
             return bad("labels.context_frames must be at least 1".into());
+        }
+        for (name, v) in [
+            ("axis_window_s", self.axis_window_s),
+            ("velocity_median_s", self.velocity_median_s),
+            ("context_s", self.context_s),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return bad(format!("labels.{name} must be positive, got {v}"));
+            }
+        }
+        if !(self.threshold_size_per_s.is_finite() && self.threshold_size_per_s >= 0.0) {
+            return bad(format!(
+                "labels.threshold_size_per_s must be ≥ 0, got {}",
+                self.threshold_size_per_s
+            ));
         }
         if !(self.threshold_px_per_frame.is_finite() && self.threshold_px_per_frame >= 0.0) {
             return bad(format!(

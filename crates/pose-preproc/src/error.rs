@@ -137,11 +137,17 @@ pub enum PosePreprocError {
     },
     /// A track holds a NaN or infinite value.
     #[error(
-        "the right-wrist track has a non-finite value at frame {frame}; clean the motion first"
+        "the bowing wrist's track has a non-finite value at frame {frame}; clean the motion first"
     )]
     NonFinite {
         /// The first bad frame.
         frame: usize,
+    },
+    /// The performer's torso and shoulders are both under a pixel: no unit for the threshold.
+    #[error("the performer's torso length ({torso_px:.2} px) and shoulder width are under 1 px; the skeleton has no usable size (use --axis y for a threshold in pixels)")]
+    NoSize {
+        /// The median torso length found, pixels.
+        torso_px: f64,
     },
     /// A configuration value is out of range.
     #[error("invalid configuration: {0}")]

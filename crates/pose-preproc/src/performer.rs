@@ -7,10 +7,14 @@
 //!    ten joints have confidence ≥ the threshold. Its *score* is the mean confidence of the
 //!    ten joints × the diagonal (px) of the bounding box of its confident joints, so large,
 //!    confident people score high.
-//! 2. **Start.** Over the first `start_frames` frames (from the first frame with a candidate),
-//!    candidates are linked frame to frame into short tracks (nearest first, one-to-one,
-//!    within the step gate). The track with the highest *summed* score is the performer: a
-//!    persistent, confident, large person beats a small bystander or a one-frame detection.
+//! 2. **Start.** Over the first `start_frames` frames (from the first frame with a candidate;
+//!    by default the whole clip), candidates are linked frame to frame into tracks (nearest first, one-to-one,
+//!    within the step gate; a track unmatched for `reacquire_after_frames` ends). Each track's
+//!    value is its *summed* score × (1 + `activity_weight` × its wrists' activity), the
+//!    activity being the larger wrist's spread relative to the neck in units of the track's
+//!    size (at most 0.5): a persistent person who plays beats a one-frame detection, a
+//!    bystander who arrives later, and a still bystander up to about twice the performer's
+//!    size.
 //! 3. **Follow.** In every frame the candidate nearest to the performer's last known pose is
 //!    the performer when its distance (mean over joints confident in both, at least 3) is at
 //!    most `max_step_fraction` × the performer's size. Nobody else is ever taken while the
@@ -23,7 +27,7 @@
 //!    frames; otherwise it is rejected (and counted).
 
 use serde::{Deserialize, Serialize};
-use skeleton::JOINT_COUNT;
+use skeleton::{Joint, JOINT_COUNT};
 
 use crate::config::PerformerConfig;
 use crate::read::Detection;
@@ -155,7 +159,60 @@ fn candidates(people: &[Detection], threshold: f32, cfg: &PerformerConfig) -> Ve
         .collect()
 }
 
-/// The first pose of the highest-scoring short track in the first frames (step 2).
+/// How much a short track's wrists move relative to its neck: per arm the sums of the
+/// offset and its square, and the count; plus the summed size.
+#[derive(Debug, Clone, Default)]
+struct Activity {
+    sum: [[f32; 2]; 2],
+    sq: [[f32; 2]; 2],
+    n: [f32; 2],
+    size: f32,
+    frames: f32,
+}
+
+impl Activity {
+    fn add(&mut self, d: &Detection, threshold: f32) {
+        let neck = Joint::Neck.index();
+        self.size += size(d, threshold);
+        self.frames += 1.0;
+        if !confident(d, neck, threshold) {
+            return;
+        }
+        for (a, w) in [Joint::RWrist, Joint::LWrist].into_iter().enumerate() {
+            let w = w.index();
+            if confident(d, w, threshold) {
+                for c in 0..2 {
+                    let v = d.joints[w][c] - d.joints[neck][c];
+                    self.sum[a][c] += v;
+                    self.sq[a][c] += v * v;
+                }
+                self.n[a] += 1.0;
+            }
+        }
+    }
+
+    /// The larger of the two wrists' spread (standard deviation of the offset to the neck)
+    /// in units of the track's mean size, at most 0.5.
+    fn level(&self) -> f32 {
+        let mean_size = self.size / self.frames.max(1.0);
+        let mut best = 0.0f32;
+        for a in 0..2 {
+            if self.n[a] < 3.0 {
+                continue;
+            }
+            let var: f32 = (0..2)
+                .map(|c| {
+                    let m = self.sum[a][c] / self.n[a];
+                    (self.sq[a][c] / self.n[a] - m * m).max(0.0)
+                })
+                .sum();
+            best = best.max(var.sqrt() / mean_size.max(1.0));
+        }
+        best.min(0.5)
+    }
+}
+
+/// The first pose of the best track in the first `start_frames` frames (step 2).
 fn start_anchor(
     frames: &[Vec<Detection>],
     threshold: f32,
@@ -164,13 +221,16 @@ fn start_anchor(
     let first = frames
         .iter()
         .position(|people| !candidates(people, threshold, cfg).is_empty())?;
-    let end = frames.len().min(first + cfg.start_frames);
-    // (current pose, summed score, first pose)
-    let mut tracks: Vec<(Anchor, f32, Anchor)> = Vec::new();
+    let end = frames.len().min(first.saturating_add(cfg.start_frames));
+    // (current pose, summed score, first pose, wrist activity)
+    let mut tracks: Vec<(Anchor, f32, Anchor, Activity)> = Vec::new();
     for (t, people) in frames.iter().enumerate().take(end).skip(first) {
         let cands = candidates(people, threshold, cfg);
         let mut pairs: Vec<(f32, usize, usize)> = Vec::new();
-        for (i, (track, _, _)) in tracks.iter().enumerate() {
+        for (i, (track, ..)) in tracks.iter().enumerate() {
+            if t - track.last_frame > cfg.reacquire_after_frames {
+                continue; // lost: a person appearing here later is someone new
+            }
             for &c in &cands {
                 if let Some(d) = track
                     .distance(&people[c], threshold)
@@ -189,17 +249,21 @@ fn start_anchor(
                 cand_used[c] = true;
                 tracks[i].0.update(&people[c], threshold, t);
                 tracks[i].1 += score(&people[c], threshold);
+                tracks[i].3.add(&people[c], threshold);
             }
         }
         for &c in cands.iter().filter(|&&c| !cand_used[c]) {
             let a = Anchor::new(&people[c], threshold, t);
-            tracks.push((a.clone(), score(&people[c], threshold), a));
+            let mut activity = Activity::default();
+            activity.add(&people[c], threshold);
+            tracks.push((a.clone(), score(&people[c], threshold), a, activity));
         }
     }
     let mut best: Option<(f32, Anchor)> = None;
-    for (_, total, start) in tracks {
-        if best.as_ref().is_none_or(|(b, _)| total > *b) {
-            best = Some((total, start));
+    for (_, total, start, activity) in tracks {
+        let value = total * (1.0 + cfg.activity_weight * activity.level());
+        if best.as_ref().is_none_or(|(b, _)| value > *b) {
+            best = Some((value, start));
         }
     }
     best.map(|(_, a)| a)

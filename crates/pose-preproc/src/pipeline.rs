@@ -9,10 +9,11 @@ use skeleton::{Motion, JOINT_COUNT};
 use crate::config::PreprocConfig;
 use crate::error::{PosePreprocError, Result};
 use crate::fill::fill_gaps;
-use crate::labels::bow_change_labels_checked;
+use crate::labels::{label_motion, BowLabels};
 use crate::performer::select_performer;
 use crate::quality::QualityReport;
 use crate::read::{read_openpose_dir, Detection, RawPoses};
+use crate::swap::fix_left_right_swaps;
 
 /// The cleaned skeleton of a video, its bow changes, and how clean the input was.
 #[derive(Debug, Clone, PartialEq)]
@@ -20,8 +21,12 @@ pub struct PoseTrack {
     /// The performer's ten joints, `(frames, 10, 2)`, filled, centred (unless disabled) and
     /// median-smoothed, at the configured fps. Never NaN.
     pub motion: Motion,
-    /// Bow-change frames (SPEC §3 rule on the right wrist); empty for clips too short to label.
+    /// Bow-change frames (SPEC §3 rule on the bowing wrist); empty for clips too short to
+    /// label.
     pub bow_change_frames: Vec<usize>,
+    /// The labels with the bowing arm, the performer's size and the per-frame confidence;
+    /// `None` for clips too short to label.
+    pub labels: Option<BowLabels>,
     /// What was found and done.
     pub quality: QualityReport,
 }
@@ -59,11 +64,28 @@ pub fn preprocess_poses(raw: &RawPoses, cfg: &PreprocConfig) -> Result<PoseTrack
     cfg.validate()?;
     let threshold = cfg.confidence_threshold;
     let (chosen, stats) = select_performer(&raw.frames, threshold, &cfg.performer);
-    let performer: Vec<Option<&Detection>> = chosen
+    let mut performer: Vec<Option<Detection>> = chosen
         .iter()
         .zip(&raw.frames)
-        .map(|(c, people)| c.and_then(|i| people.get(i)))
+        .map(|(c, people)| c.and_then(|i| people.get(i)).copied())
         .collect();
+    let left_right_swaps_fixed = fix_left_right_swaps(&mut performer, threshold);
+    let wrist_confidence: Vec<[f32; 2]> = performer
+        .iter()
+        .map(|d| {
+            d.map_or([0.0, 0.0], |d| {
+                [skeleton::Joint::RWrist, skeleton::Joint::LWrist].map(|j| {
+                    let c = d.joints[j.index()][2];
+                    if c >= threshold {
+                        c
+                    } else {
+                        0.0
+                    }
+                })
+            })
+        })
+        .collect();
+    let performer: Vec<Option<&Detection>> = performer.iter().map(Option::as_ref).collect();
     let with_performer = performer.iter().filter(|p| p.is_some()).count();
     if with_performer == 0 {
         return Err(PosePreprocError::NoPerson {
@@ -94,22 +116,42 @@ pub fn preprocess_poses(raw: &RawPoses, cfg: &PreprocConfig) -> Result<PoseTrack
     smooth(&mut motion, cfg.median_window)?;
 
     let mut notes = Vec::new();
+    if !raw.skipped.is_empty() {
+        let shown: Vec<&str> = raw.skipped.iter().take(5).map(String::as_str).collect();
+        notes.push(format!(
+            "skipped {} entries: {}{}",
+            raw.skipped.len(),
+            shown.join(", "),
+            if raw.skipped.len() > 5 { ", …" } else { "" }
+        ));
+    }
+    if let Some(file) = &raw.first_bad_keypoint_file {
+        notes.push(format!(
+            "{} keypoints with a negative or non-numeric (NaN/Infinity) value were dropped as missing, the first in {}",
+            raw.bad_keypoints,
+            file.display()
+        ));
+    }
     if raw.missing_frame_files > 0 {
         notes.push(format!(
             "{} frame numbers had no file; they were filled like frames without a performer",
             raw.missing_frame_files
         ));
     }
-    let bow_change_frames = match bow_change_labels_checked(&motion, &cfg.labels) {
-        Ok(frames) => frames,
+    let labels = match label_motion(&motion, &cfg.labels, Some(&wrist_confidence)) {
+        Ok(labels) => Some(labels),
         Err(PosePreprocError::ClipTooShort { frames, needed }) => {
             notes.push(format!(
                 "clip of {frames} frames is too short for bow-change labels (needs {needed}); no labels"
             ));
-            Vec::new()
+            None
         }
         Err(e) => return Err(e),
     };
+    let bow_change_frames = labels
+        .as_ref()
+        .map(|l| l.frames.clone())
+        .unwrap_or_default();
     let quality = QualityReport {
         frames: motion.len(),
         layout: raw.layout,
@@ -124,12 +166,14 @@ pub fn preprocess_poses(raw: &RawPoses, cfg: &PreprocConfig) -> Result<PoseTrack
         held_joint_frames: filled.held_joint_frames,
         long_gaps: filled.long_gaps,
         center_offset_px,
+        left_right_swaps_fixed,
         bow_changes: bow_change_frames.len(),
         notes,
     };
     Ok(PoseTrack {
         motion,
         bow_change_frames,
+        labels,
         quality,
     })
 }

@@ -45,6 +45,8 @@ pub struct QualityReport {
     pub long_gaps: Vec<Gap>,
     /// The `(x, y)` offset subtracted by centring, pixels (0, 0 when centring is off).
     pub center_offset_px: [f32; 2],
+    /// Joint-pair frames whose left and right the pose estimator had swapped, swapped back.
+    pub left_right_swaps_fixed: usize,
     /// Bow changes found (0 when the clip is too short to label; see `notes`).
     pub bow_changes: usize,
     /// Anything else worth knowing (e.g. a clip too short to label).

@@ -231,3 +231,61 @@ fn invalid_configuration_is_rejected() {
         assert!(matches!(e, PosePreprocError::InvalidConfig(_)), "{e}");
     }
 }
+
+#[test]
+fn nan_infinity_and_negative_coordinates_are_dropped_and_reported() {
+    let dir = tempfile::tempdir().unwrap();
+    for t in 0..40 {
+        write(dir.path(), t, vec![person(25, 0.9)]);
+    }
+    // Python's json module writes NaN and Infinity as bare tokens.
+    let nan = dir.path().join("v_000000000005_keypoints.json");
+    let text = std::fs::read_to_string(&nan).unwrap();
+    let text = text
+        .replacen("500.0", "NaN", 1)
+        .replacen("0.9", "Infinity", 1);
+    std::fs::write(&nan, text).unwrap();
+    let mut p = person(25, 0.9);
+    p["pose_keypoints_2d"][3 * 4] = json!(-12.0);
+    write(dir.path(), 9, vec![p]);
+    let track = preprocess_dir(dir.path(), &PreprocConfig::default()).unwrap();
+    assert!(track.motion.frames().iter().all(|v| v.is_finite()));
+    let note = track
+        .quality
+        .notes
+        .iter()
+        .find(|n| n.contains("negative or non-numeric"))
+        .expect("a note");
+    assert!(note.contains("v_000000000005_keypoints.json"), "{note}");
+    assert!(
+        note.starts_with("2 keypoints") || note.starts_with("3 keypoints"),
+        "{note}"
+    );
+}
+
+#[test]
+fn files_that_are_not_frames_are_skipped_and_named() {
+    let dir = tempfile::tempdir().unwrap();
+    for t in 0..20 {
+        write(dir.path(), t, vec![person(25, 0.9)]);
+    }
+    std::fs::write(dir.path().join("video.mp4"), b"\x00\x01").unwrap();
+    std::fs::write(dir.path().join("settings.json"), b"not json at all").unwrap();
+    let track = preprocess_dir(dir.path(), &PreprocConfig::default()).unwrap();
+    let note = track
+        .quality
+        .notes
+        .iter()
+        .find(|n| n.starts_with("skipped 2 entries"))
+        .expect("a note");
+    assert!(
+        note.contains("video.mp4") && note.contains("settings.json"),
+        "{note}"
+    );
+    // A .json frame file that is not JSON is an error naming it.
+    std::fs::write(dir.path().join("v_000000000003_keypoints.json"), b"\x89PNG").unwrap();
+    let e = run(dir.path());
+    assert!(matches!(e, PosePreprocError::MalformedJson { .. }), "{e}");
+    mentions(&e, "v_000000000003_keypoints.json");
+    assert_eq!(e.to_string().lines().count(), 1);
+}

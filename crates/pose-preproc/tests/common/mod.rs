@@ -1,8 +1,12 @@
 //! A seeded generator of synthetic OpenPose output: a violinist whose right wrist strokes up
 //! and down with bow changes at known frames, plus the troubles of real output (jitter,
 //! dropouts, frames without the performer, a bystander, one-frame false detections).
-//! Shared by the integration tests and the `synth_openpose` example.
+//! Shared by the integration tests and the examples. [`camera_clip`] makes clips from the
+//! project's motion synthesis seen through random cameras.
 #![allow(dead_code, clippy::unwrap_used, clippy::expect_used)]
+
+pub mod camera_clip;
+pub mod troubles;
 
 use std::path::Path;
 
@@ -358,8 +362,13 @@ pub fn generate(cfg: &SynthConfig) -> SynthClip {
 /// (face/hand arrays, `pose_keypoints_3d`, an unknown field); the others only
 /// `pose_keypoints_2d`, to exercise tolerant reading.
 pub fn write_openpose_dir(dir: &Path, clip: &SynthClip, prefix: &str) {
+    write_people_dir(dir, &clip.people, prefix);
+}
+
+/// [`write_openpose_dir`] for any frames of people (keypoint arrays).
+pub fn write_people_dir(dir: &Path, frames: &[Vec<Vec<f32>>], prefix: &str) {
     std::fs::create_dir_all(dir).unwrap();
-    for (t, frame) in clip.people.iter().enumerate() {
+    for (t, frame) in frames.iter().enumerate() {
         let people: Vec<serde_json::Value> = frame
             .iter()
             .map(|kp| {
