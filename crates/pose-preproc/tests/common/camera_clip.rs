@@ -12,12 +12,9 @@ use motion_synth::{synthesize_detailed, Camera, SynthConfig as MotionConfig};
 use performance::{ArousalCurve, Performance};
 use skeleton::{Joint, PoseLayout, JOINT_COUNT};
 
-use super::troubles::{add_troubles, Troubles};
+use super::troubles::{add_troubles, Troubles, View};
+pub use super::troubles::{HEIGHT, WIDTH};
 use super::Rng;
-
-/// Image size of every clip.
-pub const WIDTH: f64 = 1280.0;
-pub const HEIGHT: f64 = 720.0;
 
 /// The camera and the image transform.
 #[derive(Debug, Clone, PartialEq)]
@@ -337,7 +334,13 @@ pub fn generate_clip(spec: &ClipSpec) -> CameraClip {
         .iter()
         .map(|&f| f as f64 / cam.fps)
         .collect();
-    let people = add_troubles(&truth, &behind, spec, &mut rng);
+    let view = View {
+        fps: cam.fps,
+        height_px: cam.height_px,
+        yaw_deg: cam.yaw_deg,
+        layout: spec.layout,
+    };
+    let people = add_troubles(&truth, &behind, &spec.troubles, &view, &mut rng);
     CameraClip {
         spec: spec.clone(),
         bow_changes_s,

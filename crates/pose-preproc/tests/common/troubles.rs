@@ -3,10 +3,23 @@
 //! (one larger than the performer), a person walking into the frame and staying, one-frame
 //! false detections. Seeded through the caller's [`Rng`].
 
-use skeleton::{Joint, JOINT_COUNT};
+use skeleton::{Joint, PoseLayout, JOINT_COUNT};
 
-use super::camera_clip::{ClipSpec, HEIGHT, WIDTH};
 use super::{bystander, keypoints, Rng};
+
+/// Image size of every clip.
+pub const WIDTH: f64 = 1280.0;
+pub const HEIGHT: f64 = 720.0;
+
+/// What the troubles need to know of the camera.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct View {
+    pub fps: f64,
+    /// Performer's height (nose to hips), pixels.
+    pub height_px: f64,
+    pub yaw_deg: f64,
+    pub layout: PoseLayout,
+}
 
 /// Rates and sizes of the troubles.
 #[derive(Debug, Clone, PartialEq)]
@@ -96,11 +109,10 @@ fn standing(t: usize, x: f32, y: f32, height_px: f32) -> [[f32; 2]; JOINT_COUNT]
 pub fn add_troubles(
     truth: &[[[f32; 2]; JOINT_COUNT]],
     behind_m: &[[f32; JOINT_COUNT]],
-    spec: &ClipSpec,
+    tr: &Troubles,
+    cam: &View,
     rng: &mut Rng,
 ) -> Vec<Vec<Vec<f32>>> {
-    let tr = &spec.troubles;
-    let cam = &spec.camera;
     let fps = cam.fps;
     let n = truth.len();
     let dur = n as f64 / fps;
@@ -210,7 +222,7 @@ pub fn add_troubles(
         false_at[rng.int(0, n - 1)] = true;
     }
 
-    let layout = spec.layout;
+    let layout = cam.layout;
     let mut people = Vec::with_capacity(n);
     let jitter = |rng: &mut Rng, j: usize| {
         let wrist = j == Joint::RWrist.index() || j == Joint::LWrist.index();
