@@ -5,8 +5,8 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 use rayon::prelude::*;
 
+pub use crate::config::{CorpusConfig, RendererChoice};
 use crate::error::CorpusError;
-use crate::etude::EtudeConfig;
 use crate::item::{make_item, RendererKind};
 use crate::layout::{write_atomic, write_item};
 use crate::manifest::{Manifest, ManifestItem, Split, MANIFEST_VERSION};
@@ -14,68 +14,10 @@ use crate::render::{BowedStringSynth, Renderer, SoundFontRenderer};
 use crate::stats::CorpusStats;
 use net_core::rng::Rng;
 
-/// Which renderer(s) make the audio.
-#[derive(Debug, Clone, PartialEq)]
-pub enum RendererChoice {
-    /// The built-in bowed-string synthesizer only.
-    Builtin,
-    /// A SoundFont only.
-    Soundfont(PathBuf),
-    /// Half and half: item `i` uses the SoundFont when `(i + i / 10)` is odd, so every split
-    /// (test = indices ending in 3, validation = in 7) gets both renderers.
-    Mix(PathBuf),
-    /// Every source of [`crate::violins::VIOLINS`] (SoundFonts read from this folder), split
-    /// by violin and by work ([`crate::schedule`]).
-    Many(PathBuf),
-}
-
-impl RendererChoice {
-    /// "builtin", "soundfont" or "mix".
-    pub fn name(&self) -> &'static str {
-        match self {
-            RendererChoice::Builtin => "builtin",
-            RendererChoice::Soundfont(_) => "soundfont",
-            RendererChoice::Mix(_) => "mix",
-            RendererChoice::Many(_) => "many",
-        }
-    }
-}
-
 /// Whether item `index` of a `mix` corpus uses the SoundFont: when `index + index / 10` is
 /// odd, which alternates within every split (test and validation indices end in 3 and 7).
 pub fn mix_uses_soundfont(index: usize) -> bool {
     (index + index / 10) % 2 == 1
-}
-
-/// What to build.
-#[derive(Debug, Clone, PartialEq)]
-pub struct CorpusConfig {
-    /// Total audio to make, in minutes (items are about `etude.target_s` long).
-    pub minutes: f64,
-    /// Corpus seed: the same seed gives identical files.
-    pub seed: u64,
-    /// Renderer(s).
-    pub renderer: RendererChoice,
-    /// Apply seeded augmentation (reverb, gain, noise, tuning, 22.05–48 kHz).
-    pub augment: bool,
-    /// The étude generator's settings.
-    pub etude: EtudeConfig,
-    /// Repertoire scores (`scripts/export_repertoire.py` output) mixed with the études
-    /// (many-violin corpora only).
-    pub repertoire: Option<PathBuf>,
-}
-
-impl Default for CorpusConfig {
-    fn default() -> Self {
-        Self {
-            minutes: 10.0,
-            seed: 0,
-            renderer: RendererChoice::Builtin,
-            augment: true,
-            etude: EtudeConfig::default(),
-            repertoire: None,
-        }
-    }
 }
 
 /// Well-known places of Debian's General MIDI SoundFonts (SF2).

@@ -26,6 +26,7 @@
 
 pub mod augment;
 pub mod build;
+mod config;
 mod error;
 pub mod etude;
 pub mod item;

@@ -6,7 +6,6 @@ use crate::augment::Augmentation;
 use crate::item::RendererKind;
 use crate::perform::TimingDraw;
 use crate::repertoire::SkippedScore;
-use crate::schedule::HeldOut;
 use crate::stats::CorpusStats;
 use crate::violins::ViolinInfo;
 
@@ -60,6 +59,35 @@ impl Split {
             }
         }
         splits
+    }
+}
+
+/// What a test item holds out.
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Default, Serialize, Deserialize,
+)]
+#[serde(rename_all = "lowercase")]
+pub enum HeldOut {
+    /// Nothing: a training or validation item, or an in-distribution test item.
+    #[default]
+    None,
+    /// A violin source training never heard.
+    Violin,
+    /// A work training never saw.
+    Repertoire,
+    /// Both.
+    Both,
+}
+
+impl HeldOut {
+    /// The evaluation set's name: "in-distribution", "held-out violin", ….
+    pub fn set_name(self) -> &'static str {
+        match self {
+            HeldOut::None => "in-distribution",
+            HeldOut::Violin => "held-out violin",
+            HeldOut::Repertoire => "held-out repertoire",
+            HeldOut::Both => "held-out both",
+        }
     }
 }
 

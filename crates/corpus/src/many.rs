@@ -6,7 +6,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 use rayon::prelude::*;
 
-use crate::build::CorpusConfig;
+use crate::config::CorpusConfig;
 use crate::error::CorpusError;
 use crate::etude::generate;
 use crate::item::{make_score_item, RendererKind};

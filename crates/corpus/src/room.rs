@@ -24,6 +24,7 @@
 //! # Ok::<(), corpus::room::RoomError>(())
 //! ```
 
+mod error;
 mod ir;
 mod lossy;
 mod noise;
@@ -32,6 +33,7 @@ use serde::{Deserialize, Serialize};
 
 use net_core::rng::Rng;
 
+pub use error::RoomError;
 pub use ir::rt60_schroeder;
 pub use lossy::{encode_lossy, LossyEncoding, LossyKind};
 pub use noise::{NoiseKind, NoiseSpec};
@@ -45,31 +47,6 @@ pub const SAMPLE_RATES_HZ: [(u32, f64); 6] = [
     (88_200, 0.03),
     (96_000, 0.05),
 ];
-
-/// What can go wrong in the recording chain.
-#[derive(Debug, thiserror::Error)]
-pub enum RoomError {
-    /// The sample rate is unusable.
-    #[error("recording: sample rate {0} Hz is outside 8000..=384000")]
-    SampleRate(u32),
-    /// The convolution failed (an internal buffer-length bug; please report it).
-    #[error("room convolution: {0}")]
-    Convolution(String),
-    /// An encoder program is not installed.
-    #[error("`{tool}` is not installed or not on PATH: install it (Debian: apt-get install {tool} or vorbis-tools) or draw recordings without lossy encoding")]
-    EncoderMissing {
-        /// `lame` or `oggenc`.
-        tool: &'static str,
-    },
-    /// An encoder program failed.
-    #[error("`{tool}` failed: {reason}")]
-    Encoder {
-        /// `lame` or `oggenc`.
-        tool: &'static str,
-        /// Its exit status and message.
-        reason: String,
-    },
-}
 
 /// One item's recording chain. Every drawn value is stored, so the manifest reproduces it.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -17,40 +17,10 @@
 //!
 //! Without repertoire, slots 23 and 24 use études (and count as slots 21 and 22).
 
-use serde::{Deserialize, Serialize};
-
+pub use crate::manifest::HeldOut;
 use crate::manifest::Split;
 use crate::score::Score;
 use net_core::rng::Rng;
-
-/// What a test item holds out.
-#[derive(
-    Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Default, Serialize, Deserialize,
-)]
-#[serde(rename_all = "lowercase")]
-pub enum HeldOut {
-    /// Nothing: a training or validation item, or an in-distribution test item.
-    #[default]
-    None,
-    /// A violin source training never heard.
-    Violin,
-    /// A work training never saw.
-    Repertoire,
-    /// Both.
-    Both,
-}
-
-impl HeldOut {
-    /// The evaluation set's name: "in-distribution", "held-out violin", ….
-    pub fn set_name(self) -> &'static str {
-        match self {
-            HeldOut::None => "in-distribution",
-            HeldOut::Violin => "held-out violin",
-            HeldOut::Repertoire => "held-out repertoire",
-            HeldOut::Both => "held-out both",
-        }
-    }
-}
 
 /// The split of a work: 10 % test, 10 % validation, 80 % train, by FNV-1a of its name.
 ///

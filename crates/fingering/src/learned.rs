@@ -6,6 +6,7 @@ use std::sync::Arc;
 
 use crate::error::FingeringError;
 use crate::fingering::Fingering;
+use crate::learned_params::CONTEXTS;
 use crate::learned_params::{LearnedParams, MAX_INTERVAL, MAX_POSITION_STEP};
 use crate::physical::{self, finger_offset, position_offset};
 use crate::placement::Placement;
@@ -70,11 +71,6 @@ pub(crate) fn steps(from: &Fingering, to: &Fingering) -> (i8, i8) {
         .clamp(-i16::from(MAX_POSITION_STEP), i16::from(MAX_POSITION_STEP)) as i8;
     (ds, dp)
 }
-
-/// Melodic contexts a note's place depends on: the interval from the previous note and to
-/// the next one, each in six classes (none, leap down ≥ 3, step down, repeat, step up, leap
-/// up ≥ 3).
-pub const CONTEXTS: usize = 36;
 
 fn interval_bucket(from: Option<u8>, to: Option<u8>) -> usize {
     match (from, to) {

@@ -6,9 +6,13 @@ use std::fmt::Write as _;
 
 use crate::error::FingeringError;
 use crate::fingering::Fingering;
-use crate::learned::CONTEXTS;
 use crate::placement::Placement;
 use crate::string::ViolinString;
+
+/// Melodic contexts a note's place depends on: the interval from the previous note and to
+/// the next one, each in six classes (none, leap down ≥ 3, step down, repeat, step up, leap
+/// up ≥ 3).
+pub const CONTEXTS: usize = 36;
 
 /// The shipped parameters (`data/learned_tnua.tsv`), learned from the TNUA violin fingering
 /// dataset (Chen et al., IUI 2021, github.com/Tsung-Ping/Violin-Fingering-Generation); the

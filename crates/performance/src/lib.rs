@@ -44,6 +44,8 @@ mod meter;
 pub mod midi;
 #[cfg(feature = "midi")]
 mod midi_line;
+#[cfg(feature = "midi")]
+mod midi_score;
 mod note;
 mod performance;
 mod stroke;

@@ -2,7 +2,7 @@
 //! inferred from the notes), one melodic line, and bowing by the rules of [`crate::midi`].
 
 use crate::meter::Meter;
-use crate::midi::{MidiNote, MidiScore};
+use crate::midi_score::{MidiNote, MidiScore};
 use crate::note::Note;
 use crate::timeline::{arousal_proxy, TimedNote, Timeline};
 

@@ -16,7 +16,7 @@
 use dsp_mel::fft::Planner;
 use net_core::rng::Rng;
 
-use crate::room::RoomError;
+use crate::room::error::RoomError;
 
 /// Speed of sound, m/s.
 const SOUND_MPS: f64 = 343.0;

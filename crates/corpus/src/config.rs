@@ -1,0 +1,63 @@
+//! What a corpus build is asked for: [`CorpusConfig`] and [`RendererChoice`].
+
+use std::path::PathBuf;
+
+use crate::etude::EtudeConfig;
+
+/// Which renderer(s) make the audio.
+#[derive(Debug, Clone, PartialEq)]
+pub enum RendererChoice {
+    /// The built-in bowed-string synthesizer only.
+    Builtin,
+    /// A SoundFont only.
+    Soundfont(PathBuf),
+    /// Half and half: item `i` uses the SoundFont when `(i + i / 10)` is odd, so every split
+    /// (test = indices ending in 3, validation = in 7) gets both renderers.
+    Mix(PathBuf),
+    /// Every source of [`crate::violins::VIOLINS`] (SoundFonts read from this folder), split
+    /// by violin and by work ([`crate::schedule`]).
+    Many(PathBuf),
+}
+
+impl RendererChoice {
+    /// "builtin", "soundfont" or "mix".
+    pub fn name(&self) -> &'static str {
+        match self {
+            RendererChoice::Builtin => "builtin",
+            RendererChoice::Soundfont(_) => "soundfont",
+            RendererChoice::Mix(_) => "mix",
+            RendererChoice::Many(_) => "many",
+        }
+    }
+}
+
+/// What to build.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CorpusConfig {
+    /// Total audio to make, in minutes (items are about `etude.target_s` long).
+    pub minutes: f64,
+    /// Corpus seed: the same seed gives identical files.
+    pub seed: u64,
+    /// Renderer(s).
+    pub renderer: RendererChoice,
+    /// Apply seeded augmentation (reverb, gain, noise, tuning, 22.05–48 kHz).
+    pub augment: bool,
+    /// The étude generator's settings.
+    pub etude: EtudeConfig,
+    /// Repertoire scores (`scripts/export_repertoire.py` output) mixed with the études
+    /// (many-violin corpora only).
+    pub repertoire: Option<PathBuf>,
+}
+
+impl Default for CorpusConfig {
+    fn default() -> Self {
+        Self {
+            minutes: 10.0,
+            seed: 0,
+            renderer: RendererChoice::Builtin,
+            augment: true,
+            etude: EtudeConfig::default(),
+            repertoire: None,
+        }
+    }
+}
