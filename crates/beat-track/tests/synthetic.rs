@@ -7,7 +7,7 @@ use beat_track::{
     estimate_tempo, BeatConfig, BeatError, BeatTracker, OnsetConfig, OnsetStrength, TempoConfig,
 };
 use corpus::etude::EtudeConfig;
-use corpus::item::{make_item, CorpusItem, RendererKind};
+use corpus::item::{clean_etude, CorpusItem};
 use corpus::render::{BowedStringSynth, RenderSettings, Renderer};
 use performance::Timeline;
 use pitch_track::{segment_notes, NoteConfig, PitchConfig, PitchTracker};
@@ -17,19 +17,7 @@ const SR: u32 = 22_050;
 /// Corpus item `seed`: an étude of about `seconds` at a tempo drawn from `tempo_bpm`, built-in
 /// renderer, no augmentation (22 050 Hz).
 fn item_at(seed: u64, seconds: f64, tempo_bpm: (f64, f64)) -> CorpusItem {
-    let cfg = EtudeConfig {
-        target_s: seconds,
-        tempo_bpm,
-        ..EtudeConfig::default()
-    };
-    make_item(
-        seed,
-        &cfg,
-        &BowedStringSynth::default(),
-        RendererKind::Builtin,
-        false,
-    )
-    .unwrap()
+    clean_etude(seed, seconds, tempo_bpm).unwrap()
 }
 
 /// Corpus item `seed` at the corpus's tempi (50–170 bpm, any metre).

@@ -6,9 +6,7 @@
 use std::path::Path;
 use std::process::Command;
 
-use corpus::etude::EtudeConfig;
-use corpus::item::{make_item, RendererKind};
-use corpus::render::BowedStringSynth;
+use corpus::item::clean_etude;
 use serde_json::Value;
 
 fn cli() -> Command {
@@ -43,19 +41,7 @@ fn analyze(wav: &Path, out: &Path, extra: &[&str]) -> std::process::Output {
 #[test]
 fn synthetic_violin_gives_the_schema() {
     let dir = tempfile::tempdir().unwrap();
-    let etude = EtudeConfig {
-        target_s: 14.0,
-        tempo_bpm: (110.0, 110.0),
-        ..EtudeConfig::default()
-    };
-    let item = make_item(
-        6,
-        &etude,
-        &BowedStringSynth::default(),
-        RendererKind::Builtin,
-        false,
-    )
-    .unwrap();
+    let item = clean_etude(6, 14.0, (110.0, 110.0)).unwrap();
     let duration_s = item.audio.len() as f64 / 22_050.0;
     let wav = dir.path().join("violin.wav");
     write_wav(&wav, &item.audio, 22_050);

@@ -131,6 +131,29 @@ pub fn make_item(
     })
 }
 
+/// A clean étude (no augmentation, 22.05 kHz) rendered by the built-in synthesizer, with
+/// the tempo drawn from `tempo_bpm`: the labelled test audio of the trackers' tests and
+/// benches.
+///
+/// ```
+/// let item = corpus::item::clean_etude(3, 8.0, (100.0, 100.0))?;
+/// assert!(!item.timeline.notes.is_empty());
+/// # Ok::<(), corpus::CorpusError>(())
+/// ```
+pub fn clean_etude(
+    seed: u64,
+    target_s: f64,
+    tempo_bpm: (f64, f64),
+) -> Result<CorpusItem, CorpusError> {
+    let cfg = EtudeConfig {
+        target_s,
+        tempo_bpm,
+        ..EtudeConfig::default()
+    };
+    let synth = crate::render::BowedStringSynth::default();
+    make_item(seed, &cfg, &synth, RendererKind::Builtin, false)
+}
+
 /// Makes an item from a written `score` (an étude's or a repertoire excerpt): a human
 /// performance drawn from `seed` ([`perform`]), fingering by the optimal planner, motion,
 /// bow strokes, and audio from `renderer` through a seeded [`Recording`] (room, stereo,

@@ -4,26 +4,12 @@
 //! `cargo bench -p pitch-track --bench pitch`
 #![allow(clippy::unwrap_used, clippy::expect_used, missing_docs)]
 
-use corpus::etude::EtudeConfig;
-use corpus::item::{make_item, RendererKind};
-use corpus::render::BowedStringSynth;
+use corpus::item::clean_etude;
 use criterion::{criterion_group, criterion_main, Criterion};
 use pitch_track::{segment_notes, NoteConfig, PitchConfig, PitchTracker};
 
 fn bench(c: &mut Criterion) {
-    let etude = EtudeConfig {
-        target_s: 180.0,
-        tempo_bpm: (100.0, 100.0),
-        ..EtudeConfig::default()
-    };
-    let item = make_item(
-        3,
-        &etude,
-        &BowedStringSynth::default(),
-        RendererKind::Builtin,
-        false,
-    )
-    .expect("corpus item renders");
+    let item = clean_etude(3, 180.0, (100.0, 100.0)).expect("corpus item renders");
     let samples = &item.audio[..(180 * 22_050).min(item.audio.len())];
     let mut group = c.benchmark_group("pitch_180s");
     group.sample_size(10);

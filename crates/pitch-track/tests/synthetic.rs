@@ -4,9 +4,8 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use corpus::etude::EtudeConfig;
-use corpus::item::{make_item, CorpusItem, RendererKind};
+use corpus::item::{clean_etude, CorpusItem};
 use corpus::reference::reference_f0;
-use corpus::render::BowedStringSynth;
 use pitch_track::eval::{melody_scores, onset_prf, MelodyScores};
 use pitch_track::{
     segment_notes, Note, NoteConfig, PitchConfig, PitchError, PitchTrack, PitchTracker,
@@ -15,18 +14,7 @@ use pitch_track::{
 /// Corpus item `seed` (an étude of about `seconds`), built-in renderer, no augmentation
 /// (22 050 Hz, no tuning offset).
 fn item(seed: u64, seconds: f64) -> CorpusItem {
-    let cfg = EtudeConfig {
-        target_s: seconds,
-        ..EtudeConfig::default()
-    };
-    make_item(
-        seed,
-        &cfg,
-        &BowedStringSynth::default(),
-        RendererKind::Builtin,
-        false,
-    )
-    .unwrap()
+    clean_etude(seed, seconds, EtudeConfig::default().tempo_bpm).unwrap()
 }
 
 fn analyse(samples: &[f32]) -> (PitchTrack, Vec<Note>) {
