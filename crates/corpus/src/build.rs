@@ -95,26 +95,14 @@ pub fn build_corpus(
             write_item(root, i, &item)?;
             progress(done.fetch_add(1, Ordering::Relaxed) + 1, count);
             let meter = item.time_signature.to_string();
-            let entry = ManifestItem {
-                id: i,
-                dir: format!("items/{i:05}"),
-                split: splits[i],
-                renderer: kind,
-                duration_s: item.timeline.duration_s,
-                meter: meter.clone(),
-                tempo_bpm: item.timeline.tempo_bpm,
-                notes: item.timeline.notes.len(),
-                augmentation: item.augmentation,
-                held_out: crate::schedule::HeldOut::None,
-                violin: kind.name().into(),
-                work: item.score.work.clone(),
-                score: item.score.id.clone(),
-                source: item.score.provenance.source.clone(),
-                license: item.score.provenance.license.clone(),
-                audio: "audio.wav".into(),
-                timing: None,
-                recording: None,
-            };
+            let entry = ManifestItem::of(
+                i,
+                &item,
+                splits[i],
+                crate::schedule::HeldOut::None,
+                kind.name(),
+                "audio.wav".into(),
+            );
             Ok((entry, item.timeline, meter))
         })
         .collect();

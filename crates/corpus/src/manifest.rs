@@ -3,7 +3,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::augment::Augmentation;
-use crate::item::RendererKind;
+use crate::item::{CorpusItem, RendererKind};
 use crate::perform::TimingDraw;
 use crate::repertoire::SkippedScore;
 use crate::stats::CorpusStats;
@@ -139,6 +139,39 @@ pub struct ManifestItem {
     /// The recording chain: room, microphones, noise, level, rate, lossy coding.
     #[serde(default)]
     pub recording: Option<crate::room::Recording>,
+}
+
+impl ManifestItem {
+    /// The entry of item `index`, written as `audio` in its folder.
+    pub fn of(
+        index: usize,
+        item: &CorpusItem,
+        split: Split,
+        held_out: HeldOut,
+        violin: &str,
+        audio: String,
+    ) -> Self {
+        Self {
+            id: index,
+            dir: format!("items/{index:05}"),
+            split,
+            renderer: item.renderer,
+            duration_s: item.timeline.duration_s,
+            meter: item.time_signature.to_string(),
+            tempo_bpm: item.timeline.tempo_bpm,
+            notes: item.timeline.notes.len(),
+            augmentation: item.augmentation.clone(),
+            held_out,
+            violin: violin.into(),
+            work: item.score.work.clone(),
+            score: item.score.id.clone(),
+            source: item.score.provenance.source.clone(),
+            license: item.score.provenance.license.clone(),
+            audio,
+            timing: item.timing.clone(),
+            recording: item.recording.clone(),
+        }
+    }
 }
 
 /// The whole manifest.

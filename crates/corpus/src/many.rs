@@ -119,26 +119,7 @@ pub fn build_many(
             progress(done.fetch_add(1, Ordering::Relaxed) + 1, count);
             let meter = item.time_signature.to_string();
             let double_stops = score.notes.iter().filter(|n| !n.lower.is_empty()).count();
-            let entry = ManifestItem {
-                id: i,
-                dir: format!("items/{i:05}"),
-                split: plan.split,
-                renderer: kind,
-                duration_s: item.timeline.duration_s,
-                meter: meter.clone(),
-                tempo_bpm: item.timeline.tempo_bpm,
-                notes: item.timeline.notes.len(),
-                augmentation: item.augmentation,
-                held_out: plan.held_out,
-                violin: spec.name.into(),
-                work: score.work.clone(),
-                score: score.id.clone(),
-                source: score.provenance.source.clone(),
-                license: score.provenance.license.clone(),
-                audio,
-                timing: item.timing,
-                recording: item.recording,
-            };
+            let entry = ManifestItem::of(i, &item, plan.split, plan.held_out, spec.name, audio);
             Ok((entry, item.timeline, meter, double_stops))
         })
         .collect();
