@@ -1,12 +1,14 @@
 //! Layers shared by the networks on candle's CPU backend: a fast channels-last
 //! convolution (optionally fused with its ReLU), max pools with a correct backward (one
-//! alignment, or both time alignments of the phase tree at once), seeded dropout, and a
-//! weighted cross-entropy. (Weights files, Adam and checkpoints are beside this module in
+//! alignment, or both time alignments of the phase tree at once), seeded dropout, a
+//! weighted cross-entropy, and the temporal convolution trunk ([`Tcn`]) of the frame-level
+//! networks. (Weights files, Adam and checkpoints are beside this module in
 //! net-core.)
 
 mod conv;
 mod dropout;
 mod pool;
+mod tcn;
 
 pub use conv::{conv2d_nhwc, conv2d_relu_nhwc, Conv2dNhwc};
 pub use dropout::{DropoutRng, SeededDropout};
@@ -14,6 +16,7 @@ pub use pool::{
     max_pool2x2_nhwc, pool_phases_nhwc, MaxPool2x2, MaxPool2x2Backward, PoolPhases,
     PoolPhasesBackward,
 };
+pub use tcn::{Tcn, TcnConfig};
 
 /// Cross-entropy of two-class `logits` `(n, 2)` against `targets` (0/1, `n`) with
 /// per-example `weights` `(n)`: `Σ wᵢ·CEᵢ / Σ wᵢ` (0 when all weights are 0).
