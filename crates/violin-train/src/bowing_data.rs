@@ -114,7 +114,7 @@ fn frames_of(times: &[f64], frames: usize) -> Vec<usize> {
 
 /// Loads one corpus item folder.
 pub fn load_corpus_item(dir: &Path, name: &str, group: &str) -> Result<Recording> {
-    let mel_db = bowing_mel_of_file(&corpus::layout::item_audio(dir))?;
+    let mel_db = crate::feature_cache::cached_mel30(dir, &corpus::layout::item_audio(dir))?;
     let frames = mel_db.nrows();
     let change_s = read_times(&dir.join("bowchanges.txt"))?;
     let onset_s = read_note_onsets(&dir.join("notes.tsv"))?;

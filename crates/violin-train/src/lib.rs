@@ -7,6 +7,8 @@
 //!   disk — the synthetic corpus (`violin-skeleton corpus`), URMP with OpenPose skeletons
 //!   (labels through `pose-preproc`) and DEAM — into the in-memory types the nets' `train`
 //!   feature trains on;
+//! * [`feature_cache`]: an item's 30 fps mel spectrogram computed once and kept beside its
+//!   audio, for repeated training runs;
 //! * [`evaluate`]: the engine of `violin-skeleton evaluate`, every SPEC §10 measure of the
 //!   whole pipeline on a labelled folder;
 //! * examples: the research and fitting scripts (`cargo run -p violin-train --example …`).
@@ -29,6 +31,7 @@ pub mod bowing_data;
 pub mod emotion_data;
 mod error;
 pub mod evaluate;
+pub mod feature_cache;
 pub mod gru_data;
 
 pub use error::{Result, TrainError};
