@@ -22,6 +22,7 @@
 //! # Ok::<(), violin_skeleton::Error>(())
 //! ```
 
+mod analysis_performance;
 mod chunking;
 mod error;
 mod fingering_plan;
@@ -31,6 +32,7 @@ mod midi_analysis;
 mod models;
 pub mod networks;
 mod pipeline;
+mod strokes;
 
 pub use chunking::Chunking;
 pub use error::{Error, Result};
@@ -38,8 +40,9 @@ pub use fingering::{FingeringStyle, ViolinString};
 pub use fingering_plan::{PlannerKind, SulSpan};
 #[cfg(feature = "midi")]
 pub use midi_analysis::MIDI_F0_HOP_S;
+pub use networks::BowingNetwork;
 pub use performance::{Analysis, ArousalCurve, F0Track, Note};
-pub use performance::{BowDirection, Meter};
+pub use performance::{BowDirection, BowStroke, Meter};
 pub use pipeline::{
     Method, Pipeline, PipelineBuilder, StageTimings, BOW_CHANGE_ONSET_LEAD_S,
     BOW_CHANGE_SPLIT_MIN_PART_S, MIN_DURATION_S,

@@ -15,7 +15,7 @@ use skeleton::Motion;
 use crate::chunking::Chunking;
 use crate::error::{Error, Result};
 use crate::pipeline::{Method, Pipeline, StageTimings};
-use performance::{Analysis, ArousalCurve, F0Track, Note};
+use performance::{Analysis, ArousalCurve, BowStroke, F0Track, Note};
 
 /// One piece of the recording: its audio (core plus margins) and where it sits.
 struct Chunk {
@@ -189,6 +189,7 @@ impl Pipeline {
         };
         let (mut bow_changes_s, mut beats_s, mut downbeats_s) =
             (Vec::new(), Vec::new(), Vec::new());
+        let mut heard_strokes: Vec<BowStroke> = Vec::new();
         let mut arousal = ArousalCurve {
             rate_hz: 2.0,
             values: Vec::new(),
@@ -212,6 +213,14 @@ impl Pipeline {
             );
             take_notes(&a.notes, &chunk, &mut notes);
             take_events(&a.bow_changes_s, &chunk, &mut bow_changes_s);
+            heard_strokes.extend(a.bow_strokes.iter().filter_map(|s| {
+                let start_s = s.start_s + chunk.window_start_s;
+                (start_s >= chunk.core_start_s && start_s < chunk.core_end_s).then(|| BowStroke {
+                    start_s,
+                    end_s: s.end_s + chunk.window_start_s,
+                    ..*s
+                })
+            }));
             take_events(&a.beats_s, &chunk, &mut beats_s);
             take_events(&a.downbeats_s, &chunk, &mut downbeats_s);
             tempi.push((a.tempo_bpm, chunk.core_end_s - chunk.core_start_s));
@@ -222,7 +231,15 @@ impl Pipeline {
         drop_crowded(&mut beats_s, 0.5);
         drop_crowded(&mut downbeats_s, 0.5);
         timings.decode_s = decode_s;
+        // Directions and strokes over the whole file, as for a whole analysis; the strings
+        // the chunks heard are kept.
         let bow_directions = performance::bow_directions(&bow_changes_s, &notes, &downbeats_s);
+        let bow_strokes = crate::strokes::strokes_with_heard_strings(
+            &bow_changes_s,
+            &bow_directions,
+            &notes,
+            &heard_strokes,
+        );
         let analysis = Analysis {
             schema_version: performance::ANALYSIS_SCHEMA_VERSION,
             source: "audio".into(),
@@ -232,6 +249,7 @@ impl Pipeline {
             notes,
             bow_changes_s,
             bow_directions,
+            bow_strokes,
             beats_s,
             downbeats_s,
             tempo_bpm: weighted_median(&mut tempi),

@@ -72,6 +72,7 @@ impl Pipeline {
             .collect();
         let bow_changes_s = timeline.bow_changes_s();
         let directions = bow_directions(&bow_changes_s, &notes, &score.downbeats_s);
+        let bow_strokes = performance::strokes_of(&bow_changes_s, &directions, &notes);
         let spans: Vec<(f64, f64, f32)> = score
             .notes
             .iter()
@@ -84,6 +85,7 @@ impl Pipeline {
             sample_rate: 0,
             f0: f0_of(&notes, score.duration_s),
             notes,
+            bow_strokes,
             bow_changes_s,
             bow_directions: directions,
             beats_s: score.beats_s.clone(),

@@ -5,7 +5,7 @@
 use std::path::Path;
 use std::sync::{Arc, OnceLock};
 
-use bowing_net::BowChangeDetector;
+use bowing_net::BowingModel;
 use emotion_net::ArousalEstimator;
 
 use crate::error::{Error, Result};
@@ -23,7 +23,7 @@ fn get<T>(slot: &Slot<T>, load: impl FnOnce() -> Result<Arc<T>>) -> Result<Arc<T
 /// The loaded networks of a pipeline.
 #[derive(Default)]
 pub(crate) struct LoadedModels {
-    bowing: Slot<BowChangeDetector>,
+    bowing: Slot<BowingModel>,
     emotion: Slot<ArousalEstimator>,
     #[cfg(feature = "gru")]
     gru: Slot<gru_baseline::GruBaseline>,
@@ -39,11 +39,16 @@ impl std::fmt::Debug for LoadedModels {
 }
 
 impl LoadedModels {
-    /// The bow-change detector: from `path`, or the embedded default.
-    pub(crate) fn bowing(&self, path: Option<&Path>) -> Result<Arc<BowChangeDetector>> {
+    /// The bowing model: from `path` (either network, told by the file), or the embedded
+    /// default of `network`.
+    pub(crate) fn bowing(
+        &self,
+        path: Option<&Path>,
+        network: networks::BowingNetwork,
+    ) -> Result<Arc<BowingModel>> {
         get(&self.bowing, || match path {
             Some(p) => networks::load_bowing(p),
-            None => networks::pretrained_bowing(),
+            None => networks::pretrained_bowing(network),
         })
     }
 

@@ -1,10 +1,12 @@
-//! The trained models behind the pipeline: the bow-change CNN, the arousal CRNN and the
+//! The trained models behind the pipeline: the bowing model (stroke network or CNN), the
+//! arousal CRNN and the
 //! Method 1 GRU. The embedded defaults are loaded once per process and shared.
 
 use std::path::Path;
 use std::sync::{Arc, OnceLock};
 
-use bowing_net::BowChangeDetector;
+use bowing_net::stroke::StrokeAnalysis;
+use bowing_net::BowingModel;
 use dsp_mel::Audio;
 use emotion_net::ArousalEstimator;
 #[cfg(feature = "gru")]
@@ -28,19 +30,35 @@ fn load_err(path: &Path, e: impl std::fmt::Display) -> Error {
     }
 }
 
-static BOWING: OnceLock<std::result::Result<Arc<BowChangeDetector>, String>> = OnceLock::new();
+/// Which embedded bowing model the pipeline uses when no weights file is given.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum BowingNetwork {
+    /// The CNN and the stroke network averaged (default): bow changes, and strings from the
+    /// stroke network.
+    #[default]
+    Ensemble,
+    /// The stroke network alone: bow changes and strings, trained on the many-violin
+    /// corpus.
+    Strokes,
+    /// The seed design's CNN (SPEC §4): bow changes only; directions come from the rules.
+    Cnn,
+}
+
+static ENSEMBLE: OnceLock<std::result::Result<Arc<BowingModel>, String>> = OnceLock::new();
+static STROKES: OnceLock<std::result::Result<Arc<BowingModel>, String>> = OnceLock::new();
+static CNN: OnceLock<std::result::Result<Arc<BowingModel>, String>> = OnceLock::new();
 static EMOTION: OnceLock<std::result::Result<Arc<ArousalEstimator>, String>> = OnceLock::new();
 #[cfg(feature = "gru")]
 static GRU: OnceLock<std::result::Result<Arc<GruBaseline>, String>> = OnceLock::new();
 
-/// The embedded bow-change detector (loaded once).
-pub fn pretrained_bowing() -> Result<Arc<BowChangeDetector>> {
-    BOWING
-        .get_or_init(|| {
-            BowChangeDetector::pretrained()
-                .map(Arc::new)
-                .map_err(|e| e.to_string())
-        })
+/// The embedded bowing model of `network` (loaded once).
+pub fn pretrained_bowing(network: BowingNetwork) -> Result<Arc<BowingModel>> {
+    let (slot, load): (_, fn() -> bowing_net::Result<BowingModel>) = match network {
+        BowingNetwork::Ensemble => (&ENSEMBLE, BowingModel::pretrained),
+        BowingNetwork::Strokes => (&STROKES, BowingModel::pretrained_strokes_only),
+        BowingNetwork::Cnn => (&CNN, BowingModel::pretrained_cnn),
+    };
+    slot.get_or_init(|| load().map(Arc::new).map_err(|e| e.to_string()))
         .clone()
         .map_err(|e| net_err("embedded bowing-net weights", e))
 }
@@ -69,9 +87,9 @@ pub fn pretrained_gru() -> Result<Arc<GruBaseline>> {
     .map_err(|e| net_err("embedded gru-baseline weights", e))
 }
 
-/// User-trained bowing weights.
-pub fn load_bowing(path: &Path) -> Result<Arc<BowChangeDetector>> {
-    BowChangeDetector::load(path)
+/// User-trained bowing weights (either network).
+pub fn load_bowing(path: &Path) -> Result<Arc<BowingModel>> {
+    BowingModel::load(path)
         .map(Arc::new)
         .map_err(|e| load_err(path, e))
 }
@@ -91,10 +109,10 @@ pub fn load_gru(path: &Path) -> Result<Arc<GruBaseline>> {
         .map_err(|e| load_err(path, e))
 }
 
-/// Bow changes (seconds) in `audio` (analysis rate).
-pub fn bow_changes(detector: &BowChangeDetector, audio: &Audio) -> Result<Vec<f64>> {
-    detector
-        .detect_audio(audio)
+/// Bow changes (seconds) and, from the stroke network, strokes in `audio` (analysis rate).
+pub fn bowing(model: &BowingModel, audio: &Audio) -> Result<StrokeAnalysis> {
+    model
+        .analyze_audio(audio)
         .map_err(|e| net_err("bow-change detection", e))
 }
 

@@ -7,7 +7,7 @@ use std::time::Instant;
 use dsp_mel::{resample, Audio, DEFAULT_ANALYSIS_RATE_HZ};
 use fingering::{Fingering, FingeringStyle, ViolinString};
 use motion_synth::{synthesize, Camera, SynthConfig};
-use performance::{bow_directions, Analysis, ArousalCurve, Note, Performance};
+use performance::{Analysis, ArousalCurve, Note, Performance};
 use pitch_track::{
     segment_notes, split_notes_at, start_notes_at, NoteConfig, PitchConfig, PitchTracker,
 };
@@ -17,7 +17,7 @@ use crate::chunking::Chunking;
 use crate::error::{Error, Result};
 use crate::fingering_plan::{plan_notes, PlannerKind, SulSpan};
 use crate::models::LoadedModels;
-use crate::networks;
+use crate::networks::{self, BowingNetwork};
 
 /// How motion is made from the music.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -118,6 +118,7 @@ pub struct Pipeline {
     transpose_into_range: bool,
     synth: SynthConfig,
     bowing_weights: Option<PathBuf>,
+    bowing_network: BowingNetwork,
     emotion_weights: Option<PathBuf>,
     gru_weights: Option<PathBuf>,
     chunking: Chunking,
@@ -181,10 +182,16 @@ impl PipelineBuilder {
         self
     }
 
-    /// Bow-change CNN weights trained with `violin-skeleton train bowing` (default: the
-    /// embedded ones).
+    /// Bowing weights trained with `violin-skeleton train bowing` (the stroke network or
+    /// the CNN, told apart by the file; default: the embedded stroke network).
     pub fn bowing_weights(mut self, path: impl Into<PathBuf>) -> Self {
         self.inner.bowing_weights = Some(path.into());
+        self
+    }
+
+    /// The embedded bowing model used when no weights file is given.
+    pub fn bowing_network(mut self, network: BowingNetwork) -> Self {
+        self.inner.bowing_network = network;
         self
     }
 
@@ -273,22 +280,20 @@ impl Pipeline {
         };
         let network_side = || -> Result<_> {
             let clock = Instant::now();
-            let bowing = self.models.bowing(self.bowing_weights.as_deref())?;
-            let bow_changes_s = networks::bow_changes(&bowing, &analysed)?;
+            let bowing = self
+                .models
+                .bowing(self.bowing_weights.as_deref(), self.bowing_network)?;
+            let bowed = networks::bowing(&bowing, &analysed)?;
             let bowing_s = clock.elapsed().as_secs_f64();
             let clock = Instant::now();
             let emotion = self.models.emotion(self.emotion_weights.as_deref())?;
             let arousal = networks::arousal(&emotion, &analysed, audio.duration_s())?;
-            Ok((
-                bow_changes_s,
-                arousal,
-                bowing_s,
-                clock.elapsed().as_secs_f64(),
-            ))
+            Ok((bowed, arousal, bowing_s, clock.elapsed().as_secs_f64()))
         };
         let (score, nets) = rayon::join(score_side, network_side);
         let (track, notes, pitch_s) = score?;
-        let (bow_changes_s, arousal, bowing_s, arousal_s) = nets?;
+        let (bowed, arousal, bowing_s, arousal_s) = nets?;
+        let bow_changes_s = bowed.bow_changes_s.clone();
         // Bars tend to start with a new bow: bow changes are metre evidence.
         let clock = Instant::now();
         let beats = beat_track::BeatTracker::new(beat_track::BeatConfig::default())?.track_with(
@@ -313,7 +318,14 @@ impl Pipeline {
             .zip(places)
             .map(|(n, f)| Note { fingering: f, ..*n })
             .collect();
-        let bow_directions = bow_directions(&bow_changes_s, &analyzed_notes, &beats.downbeats_s);
+        let bow_directions =
+            performance::bow_directions(&bow_changes_s, &analyzed_notes, &beats.downbeats_s);
+        let bow_strokes = crate::strokes::strokes_with_strings(
+            &bowed,
+            &bow_changes_s,
+            &bow_directions,
+            &analyzed_notes,
+        );
         let analysis = Analysis {
             schema_version: performance::ANALYSIS_SCHEMA_VERSION,
             source: "audio".into(),
@@ -323,6 +335,7 @@ impl Pipeline {
             notes: analyzed_notes,
             bow_changes_s,
             bow_directions,
+            bow_strokes,
             beats_s: beats.beats_s,
             downbeats_s: beats.downbeats_s,
             tempo_bpm: beats.tempo_bpm,
@@ -330,66 +343,6 @@ impl Pipeline {
             arousal: ArousalCurve::deam(arousal),
         };
         Ok((analysis, timings))
-    }
-
-    /// The [`Performance`] an analysis describes (the fingering it carries is kept; notes
-    /// without a place are re-planned).
-    pub fn performance(&self, analysis: &Analysis) -> Result<Performance> {
-        if analysis.duration_s < MIN_DURATION_S {
-            return Err(Error::TooShort {
-                source_name: "the recording".into(),
-                duration_s: analysis.duration_s,
-                min_s: MIN_DURATION_S,
-            });
-        }
-        if analysis.notes.is_empty() {
-            return Err(Error::NoNotes("the recording".into()));
-        }
-        let planned = self.plan(&analysis.notes);
-        // Frame-centred analysis can put the last offset a hop past the end of the audio;
-        // the performance covers exactly [0, duration].
-        let duration_s = analysis.duration_s;
-        let notes: Vec<Note> = analysis
-            .notes
-            .iter()
-            .zip(planned)
-            .filter(|(n, _)| n.onset_s < duration_s)
-            .map(|(n, planned)| {
-                let onset_s = n.onset_s.max(0.0);
-                let offset_s = n.offset_s.min(duration_s).max(onset_s);
-                Note {
-                    onset_s,
-                    offset_s,
-                    fingering: n.fingering.or(planned),
-                    ..*n
-                }
-            })
-            .collect();
-        let inside = |t: &f64| *t >= 0.0 && *t <= analysis.duration_s;
-        Ok(Performance::builder(analysis.duration_s)
-            .notes(notes)
-            .bow_changes(
-                analysis
-                    .bow_changes_s
-                    .iter()
-                    .copied()
-                    .filter(inside)
-                    .collect(),
-            )
-            .beats(analysis.beats_s.iter().copied().filter(inside).collect())
-            .downbeats(
-                analysis
-                    .downbeats_s
-                    .iter()
-                    .copied()
-                    .filter(inside)
-                    .collect(),
-            )
-            .arousal(ArousalCurve::clamped(
-                analysis.arousal.rate_hz,
-                analysis.arousal.values.clone(),
-            ))
-            .build()?)
     }
 
     /// Motion for a recording, 30 fps.

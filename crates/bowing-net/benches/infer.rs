@@ -1,5 +1,6 @@
-//! Inference cost: frame probabilities (stride 1) over 180 s of mel frames (5 400 windows),
-//! and one training step of the default settings.
+//! Inference cost: the CNN's frame probabilities (stride 1) over 180 s of mel frames (5 400
+//! windows), the stroke network's whole analysis of the same 180 s, and one CNN training
+//! step of the default settings.
 #![allow(clippy::unwrap_used, clippy::expect_used, missing_docs)]
 
 use bowing_net::infer::frame_probabilities;
@@ -24,6 +25,11 @@ fn bench(c: &mut Criterion) {
     });
     group.bench_function("detect_frames_180s", |b| {
         b.iter(|| detector.detect_frames(mel.view()).unwrap())
+    });
+    // The stroke network (default): bow changes, directions and strings, decoded.
+    let strokes = bowing_net::BowingModel::pretrained_strokes().unwrap();
+    group.bench_function("stroke_net_analyze_180s", |b| {
+        b.iter(|| strokes.analyze_mel(mel.view()).unwrap())
     });
 
     // One training step of the default settings: forward through the phase tree in

@@ -81,7 +81,7 @@ pub fn positive_frames(rec: &Recording, radius: usize) -> Vec<u8> {
 /// use bowing_net::batch::{frame_labels, Weighting};
 /// let rec = bowing_net::data::Recording {
 ///     name: "r".into(), group: "g".into(), mel_db: ndarray::Array2::zeros((12, 4)),
-///     changes: vec![3], onsets: vec![3, 8], slurred: vec![8],
+///     changes: vec![3], onsets: vec![3, 8], slurred: vec![8], strokes: vec![], strings: vec![],
 /// };
 /// let w = Weighting { label_radius_frames: 1, positive_weight: 4.0, slur_weight: 2.0 };
 /// let l = frame_labels(&rec, &w);

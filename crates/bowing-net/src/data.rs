@@ -1,5 +1,6 @@
 //! Labelled recordings in memory, what training and evaluation take: a recording's 30 fps
-//! mel spectrogram with its bow-change, note-onset and slurred-note-change frames, and the
+//! mel spectrogram with its bow-change, note-onset and slurred-note-change frames, its
+//! strokes and the string of every frame when known, and the
 //! recordings by split. Loading them from the synthetic corpus or a URMP folder is
 //! `violin-train`'s job.
 
@@ -20,6 +21,11 @@ pub struct Recording {
     pub onsets: Vec<usize>,
     /// Note changes inside a slur (an onset that is not a bow change).
     pub slurred: Vec<usize>,
+    /// Bow strokes with direction and string, seconds (empty when unknown).
+    pub strokes: Vec<performance::BowStroke>,
+    /// The string of the sounding note at every frame: 0 = none or unknown, 1–4 = G, D, A,
+    /// E (empty when unknown).
+    pub strings: Vec<u8>,
 }
 
 /// Recordings by split.

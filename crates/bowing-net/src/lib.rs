@@ -29,6 +29,7 @@
 
 #[cfg(feature = "train")]
 pub mod batch;
+mod choice;
 #[cfg(feature = "train")]
 pub mod data;
 pub mod decode;
@@ -39,9 +40,11 @@ pub mod infer;
 #[cfg(feature = "train")]
 pub mod metrics;
 pub mod model;
+pub mod stroke;
 #[cfg(feature = "train")]
 pub mod train;
 
+pub use choice::BowingModel;
 pub use decode::Decoder;
 pub use detector::BowChangeDetector;
 pub use error::{NetError, Result};

@@ -152,12 +152,30 @@ pub fn write_preview(motion: &Motion, path: &Path, audio: Option<&Path>) -> Resu
 /// (`None`: the embedded defaults).
 #[derive(Debug, Clone, Default, Args)]
 pub struct AnalysisWeights {
-    /// Bow-change CNN weights from `train bowing` (default: embedded).
+    /// Bowing weights from `train bowing` or the `train_strokes` example: the stroke
+    /// network or the CNN, told apart by the file (default: embedded).
     #[arg(long)]
     pub bowing_weights: Option<PathBuf>,
+    /// The embedded bowing model: `ensemble` (the two below averaged), `strokes` (bow
+    /// changes and strings, trained on the many-violin corpus) or `cnn` (the seed design's
+    /// bow-change CNN).
+    #[arg(long, value_enum, default_value_t = BowingNetArg::Ensemble)]
+    pub bowing_net: BowingNetArg,
     /// Arousal CRNN weights from `train emotion` (default: embedded).
     #[arg(long)]
     pub emotion_weights: Option<PathBuf>,
+}
+
+/// `--bowing-net`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ValueEnum)]
+pub enum BowingNetArg {
+    /// The CNN and the stroke network averaged (default).
+    #[default]
+    Ensemble,
+    /// The stroke network.
+    Strokes,
+    /// The seed design's CNN (SPEC §4).
+    Cnn,
 }
 
 /// The weight flags of the commands that make motion: the analysis networks and Method 1.
@@ -174,6 +192,11 @@ pub struct NetworkWeights {
 impl AnalysisWeights {
     /// Sets the given weight files on a pipeline builder.
     pub fn apply(&self, mut builder: PipelineBuilder) -> PipelineBuilder {
+        builder = builder.bowing_network(match self.bowing_net {
+            BowingNetArg::Ensemble => violin_skeleton::BowingNetwork::Ensemble,
+            BowingNetArg::Strokes => violin_skeleton::BowingNetwork::Strokes,
+            BowingNetArg::Cnn => violin_skeleton::BowingNetwork::Cnn,
+        });
         if let Some(p) = &self.bowing_weights {
             builder = builder.bowing_weights(p);
         }

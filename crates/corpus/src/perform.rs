@@ -283,21 +283,5 @@ pub fn bow_strokes(timeline: &Timeline) -> Vec<BowStroke> {
     let notes: Vec<Note> = timeline.notes.iter().map(|n| n.note).collect();
     let changes = timeline.bow_changes_s();
     let directions = bow_directions(&changes, &notes, &timeline.downbeats_s);
-    let starts: Vec<usize> = (0..timeline.notes.len())
-        .filter(|&i| timeline.notes[i].bow_change)
-        .collect();
-    starts
-        .iter()
-        .zip(directions)
-        .enumerate()
-        .map(|(k, (&i, direction))| {
-            let last = starts.get(k + 1).map_or(notes.len(), |&j| j) - 1;
-            BowStroke {
-                start_s: notes[i].onset_s,
-                end_s: notes[last].offset_s,
-                direction,
-                string: notes[i].fingering.map(|f| f.string),
-            }
-        })
-        .collect()
+    performance::strokes_of(&changes, &directions, &notes)
 }

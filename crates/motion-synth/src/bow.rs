@@ -11,9 +11,12 @@
 //! 2. **Desired travel** (the original rule, [`BowPolicy`]): a stroke shorter than
 //!    `partial_below_frames` (15) travels at full-bow speed for its own length,
 //!    `T_i = n_i / full_bow_frames` (28); a longer one travels the whole bow, `T_i = 1`.
-//! 3. **Direction.** Directions alternate, so only the first one is free. It is a down-bow
-//!    unless starting with an up-bow puts more downbeats on down-bows (a downbeat belongs to
-//!    the stroke that starts within ±2 frames of it, else to the stroke in progress).
+//! 3. **Direction.** Given per stroke ([`plan_bow_directed`], e.g. from the stroke
+//!    network: a stroke that keeps the previous direction is a retake and may start
+//!    anywhere), or alternating ([`plan_bow`]), where only the first one is free: it is a
+//!    down-bow unless starting with an up-bow puts more downbeats on down-bows (a downbeat
+//!    belongs to the stroke that starts within ±2 frames of it, else to the stroke in
+//!    progress).
 //! 4. **Distribution (look-ahead).** Followed literally, the rule drifts out of the bow
 //!    after a few unequal strokes (see [`plan_naive`]). Instead the planner chooses every
 //!    stroke's start and actual travel `t_i` jointly by dynamic programming (Viterbi) over
@@ -31,19 +34,19 @@
 //!    frame is the extreme of the two strokes around it.
 
 use crate::bow_profile::sample_strokes;
-pub use crate::bow_stroke::{BowDirection, BowPolicy, BowStroke};
+pub use crate::bow_stroke::{BowDirection, BowPolicy, PlannedStroke};
 use crate::error::Result;
 
 /// Planned strokes and the bow position of every frame.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BowPlan {
-    strokes: Vec<BowStroke>,
+    strokes: Vec<PlannedStroke>,
     positions: Vec<f32>,
 }
 
 impl BowPlan {
     /// The strokes in order.
-    pub fn strokes(&self) -> &[BowStroke] {
+    pub fn strokes(&self) -> &[PlannedStroke] {
         &self.strokes
     }
 
@@ -143,26 +146,96 @@ pub fn plan_bow(
         });
     }
     let bounds = stroke_bounds(changes, frames);
-    let first = first_direction(&bounds, downbeat_frames, policy);
+    let mut dir = first_direction(&bounds, downbeat_frames, policy);
+    let dirs: Vec<BowDirection> = bounds
+        .iter()
+        .map(|_| {
+            let d = dir;
+            dir = dir.reversed();
+            d
+        })
+        .collect();
+    Ok(plan_strokes(&bounds, &dirs, frames, policy))
+}
+
+/// [`plan_bow`] with the direction of every stroke given (e.g. by the stroke network):
+/// `direction_at(frame)` is asked for each stroke's middle frame. Where a stroke keeps
+/// the direction of the one before (a retake: the bow is lifted and set down again), the
+/// planner may start it anywhere, preferring the frog for a down-bow and the tip for an
+/// up-bow (`start_weight`), instead of where the previous stroke ended.
+///
+/// ```
+/// use motion_synth::bow::{plan_bow_directed, BowDirection, BowPolicy};
+/// let down = |_f: usize| BowDirection::Down;
+/// let plan = plan_bow_directed(&[40, 80], 120, down, &BowPolicy::default())?;
+/// assert!(plan.strokes().iter().all(|s| s.direction == BowDirection::Down));
+/// assert!(plan.positions().iter().all(|p| (0.0..=1.0).contains(p)));
+/// # Ok::<(), motion_synth::SynthError>(())
+/// ```
+pub fn plan_bow_directed(
+    changes: &[usize],
+    frames: usize,
+    direction_at: impl Fn(usize) -> BowDirection,
+    policy: &BowPolicy,
+) -> Result<BowPlan> {
+    policy.validate()?;
+    if frames == 0 {
+        return Ok(BowPlan {
+            strokes: Vec::new(),
+            positions: Vec::new(),
+        });
+    }
+    let bounds = stroke_bounds(changes, frames);
+    let dirs: Vec<BowDirection> = bounds
+        .iter()
+        .map(|&(a, b)| direction_at(a + (b - a) / 2))
+        .collect();
+    Ok(plan_strokes(&bounds, &dirs, frames, policy))
+}
+
+fn preferred_start(dir: BowDirection) -> f64 {
+    match dir {
+        BowDirection::Down => 0.0,
+        BowDirection::Up => 1.0,
+    }
+}
+
+/// The Viterbi of the module docs over `bounds` with one direction per stroke.
+fn plan_strokes(
+    bounds: &[(usize, usize)],
+    dirs: &[BowDirection],
+    frames: usize,
+    policy: &BowPolicy,
+) -> BowPlan {
     let m = policy.resolution;
     let grid = m as f64;
     let full = policy.full_bow_frames as f64;
     let k = bounds.len();
-
-    // Viterbi over positions 0..=m at the start of each stroke.
-    let preferred = if first == BowDirection::Down {
-        0.0
-    } else {
-        1.0
+    let start_cost = |dir: BowDirection, j: usize| {
+        policy.start_weight * (j as f64 / grid - preferred_start(dir)).abs()
     };
-    let mut cost: Vec<f64> = (0..=m)
-        .map(|j| policy.start_weight * (j as f64 / grid - preferred).abs())
-        .collect();
+    let mut cost: Vec<f64> = (0..=m).map(|j| start_cost(dirs[0], j)).collect();
     let mut next = vec![f64::INFINITY; m + 1];
     let mut back = vec![0u32; k * (m + 1)];
+    // For a retake before stroke i: where stroke i − 1 ended (the cheapest end).
+    let mut reset_end: Vec<Option<usize>> = vec![None; k];
     let mut desired = Vec::with_capacity(k);
-    let mut dir = first;
     for (i, &(a, b)) in bounds.iter().enumerate() {
+        let dir = dirs[i];
+        if i > 0 && dirs[i - 1] == dir {
+            let (best, best_cost) =
+                cost.iter()
+                    .copied()
+                    .enumerate()
+                    .fold(
+                        (0, f64::INFINITY),
+                        |acc, (j, c)| if c < acc.1 { (j, c) } else { acc },
+                    );
+            reset_end[i] = Some(best);
+            for (j, c) in cost.iter_mut().enumerate() {
+                *c = best_cost + start_cost(dir, j);
+            }
+        }
         let n = b - a;
         let target = policy.desired_travel(n);
         desired.push(target);
@@ -192,7 +265,6 @@ pub fn plan_bow(
             }
         }
         std::mem::swap(&mut cost, &mut next);
-        dir = dir.reversed();
     }
     // Backtrack from the cheapest end position.
     let mut end = 0;
@@ -201,26 +273,29 @@ pub fn plan_bow(
             end = j;
         }
     }
-    let mut grid_positions = vec![0usize; k + 1];
-    grid_positions[k] = end;
+    let mut starts = vec![0usize; k];
+    let mut ends = vec![0usize; k];
+    ends[k - 1] = end;
     for i in (0..k).rev() {
-        grid_positions[i] = back[i * (m + 1) + grid_positions[i + 1]] as usize;
+        starts[i] = back[i * (m + 1) + ends[i]] as usize;
+        if i > 0 {
+            ends[i - 1] = reset_end[i].unwrap_or(starts[i]);
+        }
     }
-    let mut strokes = Vec::with_capacity(k);
-    let mut dir = first;
-    for (i, &(a, b)) in bounds.iter().enumerate() {
-        strokes.push(BowStroke {
+    let strokes: Vec<PlannedStroke> = bounds
+        .iter()
+        .enumerate()
+        .map(|(i, &(a, b))| PlannedStroke {
             start_frame: a,
             end_frame: b,
-            direction: dir,
-            start_position: grid_positions[i] as f64 / grid,
-            end_position: grid_positions[i + 1] as f64 / grid,
+            direction: dirs[i],
+            start_position: starts[i] as f64 / grid,
+            end_position: ends[i] as f64 / grid,
             desired_travel: desired[i],
-        });
-        dir = dir.reversed();
-    }
+        })
+        .collect();
     let positions = sample_strokes(&strokes, frames, policy);
-    Ok(BowPlan { strokes, positions })
+    BowPlan { strokes, positions }
 }
 
 /// The original pseudo-code taken literally (start at the frog, travel the desired amount,
@@ -234,7 +309,7 @@ pub fn plan_naive(changes: &[usize], frames: usize, policy: &BowPolicy) -> Resul
     for (a, b) in stroke_bounds(changes, frames) {
         let travel = policy.desired_travel(b - a);
         let end = pos + dir.sign() * travel;
-        strokes.push(BowStroke {
+        strokes.push(PlannedStroke {
             start_frame: a,
             end_frame: b,
             direction: dir,

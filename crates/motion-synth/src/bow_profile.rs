@@ -1,7 +1,7 @@
 //! The speed profile inside a stroke (step 5 of [`crate::bow`]'s algorithm): the bow eases in
 //! and out at `reversal_speed` × cruise along smoothstep ramps.
 
-use crate::bow_stroke::{BowPolicy, BowStroke};
+use crate::bow_stroke::{BowPolicy, PlannedStroke};
 use crate::geometry::smoothstep;
 
 /// Share of the stroke covered at `u` ∈ [0, 1] under the eased speed profile.
@@ -33,7 +33,11 @@ fn eased(u: f64, e: f64, r: f64) -> f64 {
 }
 
 /// Bow position per frame of the planned `strokes` under the eased speed profile.
-pub(crate) fn sample_strokes(strokes: &[BowStroke], frames: usize, policy: &BowPolicy) -> Vec<f32> {
+pub(crate) fn sample_strokes(
+    strokes: &[PlannedStroke],
+    frames: usize,
+    policy: &BowPolicy,
+) -> Vec<f32> {
     let mut positions = vec![0.0f32; frames];
     for s in strokes {
         let n = (s.end_frame - s.start_frame) as f64;

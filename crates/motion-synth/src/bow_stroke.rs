@@ -2,6 +2,7 @@
 //! planned stroke.
 
 use crate::error::{Result, SynthError};
+pub use performance::BowDirection;
 
 /// Rules of the bow planner; [`BowPolicy::default`] is the original design's rule.
 #[derive(Debug, Clone, PartialEq)]
@@ -70,37 +71,9 @@ impl BowPolicy {
     }
 }
 
-/// Which way the bow moves.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum BowDirection {
-    /// Frog → tip (position increases).
-    Down,
-    /// Tip → frog (position decreases).
-    Up,
-}
-
-impl BowDirection {
-    /// +1 for down, −1 for up.
-    pub fn sign(self) -> f64 {
-        match self {
-            BowDirection::Down => 1.0,
-            BowDirection::Up => -1.0,
-        }
-    }
-
-    /// The other direction.
-    pub fn reversed(self) -> BowDirection {
-        match self {
-            BowDirection::Down => BowDirection::Up,
-            BowDirection::Up => BowDirection::Down,
-        }
-    }
-}
-
 /// One stroke of a [`BowPlan`].
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
-pub struct BowStroke {
+pub struct PlannedStroke {
     /// First frame.
     pub start_frame: usize,
     /// One past the last frame (the next stroke's first frame).

@@ -54,7 +54,7 @@ mod rig;
 mod synth;
 
 pub use body::BodyConfig;
-pub use bow::{BowDirection, BowPlan, BowPolicy, BowStroke};
+pub use bow::{BowDirection, BowPlan, BowPolicy, PlannedStroke};
 pub use camera::Camera;
 pub use error::{Result, SynthError};
 pub use left_hand::LeftHandConfig;

@@ -4,11 +4,12 @@ use ndarray::Array3;
 use skeleton::{InstrumentPoint, Motion, JOINT_COUNT};
 
 use crate::body::{body_track, BodyConfig, BodyTrack};
-use crate::bow::{change_frames, plan_bow, BowPlan, BowPolicy};
+use crate::bow::{change_frames, plan_bow, plan_bow_directed, BowPlan, BowPolicy};
 use crate::camera::Camera;
 use crate::error::{Result, SynthError};
-use crate::left_hand::{left_hand_tracks, resolve_fingerings, LeftHandConfig};
+use crate::left_hand::{glide_track, left_hand_tracks, resolve_fingerings, LeftHandConfig};
 use crate::rig::{PoseInput, Rig};
+use performance::BowStroke;
 use performance::Performance;
 
 /// Everything [`synthesize`] can be tuned with; the default is the product's.
@@ -104,6 +105,12 @@ pub fn synthesize(perf: &Performance, cfg: &SynthConfig) -> Result<Motion> {
     Ok(synthesize_detailed(perf, cfg)?.motion)
 }
 
+/// The stroke in progress at `t_s` (the last one starting at or before it, else the first).
+fn stroke_at(strokes: &[BowStroke], t_s: f64) -> BowStroke {
+    let i = strokes.partition_point(|s| s.start_s <= t_s);
+    strokes[i.saturating_sub(1)]
+}
+
 /// [`synthesize`], also returning the intermediate tracks.
 pub fn synthesize_detailed(perf: &Performance, cfg: &SynthConfig) -> Result<Synthesis> {
     cfg.validate()?;
@@ -112,7 +119,17 @@ pub fn synthesize_detailed(perf: &Performance, cfg: &SynthConfig) -> Result<Synt
 
     let changes = change_frames(perf.bow_changes_s(), fps, frames);
     let downbeat_frames: Vec<f64> = perf.downbeats_s().iter().map(|t| t * fps).collect();
-    let bow = plan_bow(&changes, frames, &downbeat_frames, &cfg.bow)?;
+    let strokes = perf.bow_strokes();
+    let bow = if strokes.is_empty() {
+        plan_bow(&changes, frames, &downbeat_frames, &cfg.bow)?
+    } else {
+        plan_bow_directed(
+            &changes,
+            frames,
+            |f| stroke_at(strokes, f as f64 / fps).direction,
+            &cfg.bow,
+        )?
+    };
     let body = body_track(perf, fps, frames, &cfg.body);
     let fingerings = resolve_fingerings(perf.notes())?;
     let mut string_index = vec![0.0; frames];
@@ -125,6 +142,28 @@ pub fn synthesize_detailed(perf: &Performance, cfg: &SynthConfig) -> Result<Synt
         &mut string_index,
         &mut hand_semitones,
     );
+    if strokes.iter().any(|s| s.string.is_some()) {
+        // The bow plays the string the stroke network heard, where it heard one.
+        let events: Vec<(f64, f64)> = perf
+            .notes()
+            .iter()
+            .zip(&fingerings)
+            .map(|(n, f)| {
+                let heard = strokes
+                    .iter()
+                    .find(|s| s.start_s <= n.onset_s + 0.05 && n.onset_s < s.end_s)
+                    .and_then(|s| s.string);
+                let string = heard.unwrap_or(f.string);
+                (n.onset_s, f64::from(string.number() - 1))
+            })
+            .collect();
+        glide_track(
+            &events,
+            cfg.left_hand.string_crossing_s,
+            fps,
+            &mut string_index,
+        );
+    }
 
     let mut joints_2d = Array3::<f32>::zeros((frames, JOINT_COUNT, 2));
     let mut joints_3d = Array3::<f32>::zeros((frames, JOINT_COUNT, 3));

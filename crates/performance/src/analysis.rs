@@ -7,11 +7,12 @@ use crate::arousal::ArousalCurve;
 use crate::bowing::BowDirection;
 use crate::meter::Meter;
 use crate::note::Note;
+use crate::stroke::BowStroke;
 
 /// The `analysis.json` schema version this crate writes: 2 added `schema_version`,
-/// `source`, `meter`, `bow_directions` and the notes' `velocity` (files without
-/// `schema_version` are version 1 and still read).
-pub const ANALYSIS_SCHEMA_VERSION: u32 = 2;
+/// `source`, `meter`, `bow_directions` and the notes' `velocity`; 3 added `bow_strokes`
+/// (files without `schema_version` are version 1 and still read).
+pub const ANALYSIS_SCHEMA_VERSION: u32 = 3;
 
 fn version_1() -> u32 {
     1
@@ -56,6 +57,10 @@ pub struct Analysis {
     /// [`crate::bow_directions`]); empty in version-1 files.
     #[serde(default)]
     pub bow_directions: Vec<BowDirection>,
+    /// Bow strokes with direction and string (schema 3; empty when the analysis has none,
+    /// e.g. from the bow-change CNN or an older file).
+    #[serde(default)]
+    pub bow_strokes: Vec<BowStroke>,
     /// Beats in seconds.
     pub beats_s: Vec<f64>,
     /// Downbeats in seconds.

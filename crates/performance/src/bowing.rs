@@ -5,7 +5,7 @@ use serde::{Deserialize, Serialize};
 use crate::note::Note;
 
 /// A stroke's direction: down-bow (frog to tip) or up-bow (tip to frog).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum BowDirection {
     /// Frog to tip.
@@ -15,6 +15,14 @@ pub enum BowDirection {
 }
 
 impl BowDirection {
+    /// +1 for down (the bow position, frog 0 → tip 1, increases), −1 for up.
+    pub fn sign(self) -> f64 {
+        match self {
+            BowDirection::Down => 1.0,
+            BowDirection::Up => -1.0,
+        }
+    }
+
     /// The other direction.
     pub fn reversed(self) -> BowDirection {
         match self {

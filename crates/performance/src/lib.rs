@@ -36,6 +36,7 @@
 
 mod analysis;
 mod arousal;
+mod bow_inference;
 mod bowing;
 mod error;
 mod matching;
@@ -55,6 +56,7 @@ mod validate;
 pub use crate::performance::{Performance, PerformanceBuilder, PerformanceParts};
 pub use analysis::{Analysis, F0Track, ANALYSIS_SCHEMA_VERSION};
 pub use arousal::{arousal_proxy_of_spans, ArousalCurve};
+pub use bow_inference::infer_bow_directions;
 pub use bowing::{bow_directions, BowDirection, RETAKE_REST_S};
 #[cfg(feature = "midi")]
 pub use error::MidiError;
@@ -62,7 +64,7 @@ pub use error::{PerformanceError, PerformanceFileError};
 pub use matching::{event_prf, f_measure, match_events, Prf};
 pub use meter::{Meter, TimeSignature};
 pub use note::Note;
-pub use stroke::BowStroke;
+pub use stroke::{strokes_of, BowStroke};
 pub use timeline::{arousal_proxy, TimedNote, Timeline};
 
 /// The README's example, compiled and run as a doctest.

@@ -8,6 +8,7 @@ use serde::{Deserialize, Serialize};
 use crate::arousal::ArousalCurve;
 use crate::error::{PerformanceError, PerformanceFileError};
 use crate::note::Note;
+use crate::stroke::BowStroke;
 use crate::validate::{check_notes, check_times};
 
 /// The unvalidated fields of a [`Performance`] (also its JSON form).
@@ -32,6 +33,10 @@ pub struct PerformanceParts {
     /// Per-note level in [0, 1] (one per note), when known.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub dynamics: Option<Vec<f32>>,
+    /// Bow strokes with direction and string, when known (from the stroke network or a
+    /// score); starts strictly increasing, each ending at or after its start.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub bow_strokes: Vec<BowStroke>,
 }
 
 /// What is played when, and how: the common language between analysis, the synthetic
@@ -105,6 +110,41 @@ impl Performance {
                 }
             }
         }
+        let starts: Vec<f64> = parts.bow_strokes.iter().map(|s| s.start_s).collect();
+        check_times("bow_strokes.start_s", &starts, d)?;
+        let ends: Vec<f64> = parts.bow_strokes.iter().map(|s| s.end_s).collect();
+        for (index, (&end, &start)) in ends.iter().zip(&starts).enumerate() {
+            check_times("bow_strokes.end_s", std::slice::from_ref(&end), d).map_err(
+                |e| match e {
+                    PerformanceError::NonFinite { field, value, .. } => {
+                        PerformanceError::NonFinite {
+                            field,
+                            index,
+                            value,
+                        }
+                    }
+                    PerformanceError::OutOfRange {
+                        field,
+                        value,
+                        duration_s,
+                        ..
+                    } => PerformanceError::OutOfRange {
+                        field,
+                        index,
+                        value,
+                        duration_s,
+                    },
+                    other => other,
+                },
+            )?;
+            if end < start {
+                return Err(PerformanceError::Unsorted {
+                    field: "bow_strokes.end_s",
+                    index,
+                    value: end,
+                });
+            }
+        }
         if let Some(levels) = &parts.dynamics {
             if levels.len() != parts.notes.len() {
                 return Err(PerformanceError::DynamicsLength {
@@ -144,6 +184,11 @@ impl Performance {
             path: path.to_path_buf(),
             reason: e.to_string(),
         })
+    }
+
+    /// Bow strokes with direction and string (empty when unknown).
+    pub fn bow_strokes(&self) -> &[BowStroke] {
+        &self.parts.bow_strokes
     }
 
     /// Length, seconds.
@@ -266,6 +311,12 @@ impl PerformanceBuilder {
     /// Sets the bow changes, seconds.
     pub fn bow_changes(mut self, times_s: Vec<f64>) -> Self {
         self.parts.bow_changes_s = times_s;
+        self
+    }
+
+    /// Sets the bow strokes (direction and string).
+    pub fn bow_strokes(mut self, strokes: Vec<BowStroke>) -> Self {
+        self.parts.bow_strokes = strokes;
         self
     }
 

@@ -17,6 +17,8 @@ use bowing_net::data::{Recording, Splits};
 use bowing_net::features::{bowing_mel_of_file, frame_of};
 use bowing_net::NetError;
 use corpus::manifest::{Manifest, Split};
+use fingering::ViolinString;
+use performance::{BowDirection, BowStroke};
 use pose_preproc::PreprocConfig;
 use rayon::prelude::*;
 
@@ -101,6 +103,79 @@ pub fn read_note_onsets(path: &Path) -> Result<Vec<f64>> {
     Ok(out)
 }
 
+/// Strokes from a corpus `strokes.tsv` (`start_s  end_s  direction  string`, with a header).
+pub fn read_strokes(path: &Path) -> Result<Vec<BowStroke>> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| NetError::data(path, format!("cannot read ({e})")))?;
+    let mut out = Vec::new();
+    for (i, line) in text.lines().enumerate().skip(1) {
+        if line.trim().is_empty() {
+            continue;
+        }
+        let bad = |what: &str| NetError::data(path, format!("line {}: {what}", i + 1));
+        let cols: Vec<&str> = line.split('\t').map(str::trim).collect();
+        let [start, end, direction, string, ..] = cols.as_slice() else {
+            return Err(bad("expected start_s, end_s, direction and string").into());
+        };
+        let time = |s: &str| s.parse::<f64>().ok().filter(|v| v.is_finite() && *v >= 0.0);
+        let (Some(start_s), Some(end_s)) = (time(start), time(end)) else {
+            return Err(bad("start_s and end_s must be non-negative seconds").into());
+        };
+        let direction = match *direction {
+            "down" => BowDirection::Down,
+            "up" => BowDirection::Up,
+            other => return Err(bad(&format!("direction \"{other}\" is not down or up")).into()),
+        };
+        let string = string.parse::<u8>().ok().and_then(|n| {
+            ViolinString::ALL
+                .get(usize::from(n).wrapping_sub(1))
+                .copied()
+        });
+        out.push(BowStroke {
+            start_s,
+            end_s,
+            direction,
+            string,
+        });
+    }
+    Ok(out)
+}
+
+/// The string (1–4; 0 for none) of the sounding note at every one of `frames` frames, from a
+/// corpus `notes.tsv` whose fourth column is the string; all 0 when the file has no string
+/// column.
+pub fn read_note_strings(path: &Path, frames: usize) -> Result<Vec<u8>> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| NetError::data(path, format!("cannot read ({e})")))?;
+    let mut out = vec![0u8; frames];
+    let mut lines = text.lines();
+    let has_string = lines
+        .next()
+        .is_some_and(|h| h.split('\t').nth(3).map(str::trim) == Some("string"));
+    if !has_string {
+        return Ok(out);
+    }
+    for line in lines {
+        let cols: Vec<&str> = line.split('\t').map(str::trim).collect();
+        let (Some(on), Some(off), Some(string)) = (
+            cols.first().and_then(|v| v.parse::<f64>().ok()),
+            cols.get(1).and_then(|v| v.parse::<f64>().ok()),
+            cols.get(3).and_then(|v| v.parse::<u8>().ok()),
+        ) else {
+            continue;
+        };
+        if !(1..=4).contains(&string) || !on.is_finite() || !off.is_finite() {
+            continue;
+        }
+        let from = frame_of(on).min(frames);
+        let to = frame_of(off).min(frames);
+        for v in &mut out[from..to.max(from)] {
+            *v = string;
+        }
+    }
+    Ok(out)
+}
+
 fn frames_of(times: &[f64], frames: usize) -> Vec<usize> {
     let mut out: Vec<usize> = times
         .iter()
@@ -123,6 +198,13 @@ pub fn load_corpus_item(dir: &Path, name: &str, group: &str) -> Result<Recording
         .copied()
         .filter(|o| !change_s.iter().any(|c| (c - o).abs() < 1e-3))
         .collect();
+    let strokes_path = dir.join("strokes.tsv");
+    let strokes = if strokes_path.is_file() {
+        read_strokes(&strokes_path)?
+    } else {
+        Vec::new()
+    };
+    let strings = read_note_strings(&dir.join("notes.tsv"), frames)?;
     Ok(Recording {
         name: name.to_string(),
         group: group.to_string(),
@@ -130,6 +212,8 @@ pub fn load_corpus_item(dir: &Path, name: &str, group: &str) -> Result<Recording
         onsets: frames_of(&onset_s, frames),
         slurred: frames_of(&slurred_s, frames),
         mel_db,
+        strokes,
+        strings,
     })
 }
 
@@ -250,6 +334,8 @@ pub fn load_urmp_track(track: &UrmpTrack, cfg: &PreprocConfig) -> Result<Recordi
         changes,
         onsets: Vec::new(),
         slurred: Vec::new(),
+        strokes: Vec::new(),
+        strings: Vec::new(),
     })
 }
 

@@ -32,6 +32,8 @@ fn clicks(seed: u64, frames: usize) -> Recording {
         changes,
         onsets: Vec::new(),
         slurred: Vec::new(),
+        strokes: Vec::new(),
+        strings: Vec::new(),
     }
 }
 

@@ -1,0 +1,115 @@
+//! [`BowingModel`]: the bow-change CNN of SPEC §4, the stroke network, or both averaged,
+//! behind one interface; a weights file is told apart by its format.
+//! [`BowingModel::pretrained`] is the shipped default: the ensemble (see the README for the
+//! held-out figures that chose it).
+
+use std::path::Path;
+
+use net_core::file;
+
+use crate::detector::{BowChangeDetector, FORMAT_NAME};
+use crate::error::{NetError, Result};
+use crate::features::{bowing_mel, FPS};
+use crate::stroke::{FrameOutputs, StrokeAnalysis, StrokeDetector, STROKE_FORMAT_NAME};
+
+/// The shipped stroke-network weights (see the crate README for how they were trained).
+static PRETRAINED_STROKES: &[u8] = include_bytes!("../weights/stroke-net.safetensors");
+
+/// A bowing model: bow changes (both) and strings (stroke network only).
+#[derive(Debug)]
+pub enum BowingModel {
+    /// The seed design's CNN: bow changes only.
+    Cnn(BowChangeDetector),
+    /// The stroke network: bow changes and strings.
+    Strokes(StrokeDetector),
+    /// Both: their change probabilities averaged and picked by the stroke network's
+    /// ensemble decoder; strings and played stretches from the stroke network.
+    Ensemble(Box<BowChangeDetector>, StrokeDetector),
+}
+
+impl BowingModel {
+    /// The shipped default: the ensemble of the CNN and the stroke network (the stroke
+    /// network alone if its weights carry no ensemble decoder).
+    pub fn pretrained() -> Result<Self> {
+        let strokes = Self::pretrained_strokes()?;
+        if strokes.ensemble_decoder().is_some() {
+            Ok(Self::Ensemble(
+                Box::new(BowChangeDetector::pretrained()?),
+                strokes,
+            ))
+        } else {
+            Ok(Self::Strokes(strokes))
+        }
+    }
+
+    /// The shipped stroke network alone.
+    pub fn pretrained_strokes_only() -> Result<Self> {
+        Ok(Self::Strokes(Self::pretrained_strokes()?))
+    }
+
+    /// The shipped stroke network.
+    pub fn pretrained_strokes() -> Result<StrokeDetector> {
+        StrokeDetector::from_bytes(
+            PRETRAINED_STROKES,
+            Path::new("<embedded bowing stroke-net weights>"),
+        )
+    }
+
+    /// The shipped CNN (SPEC §4).
+    pub fn pretrained_cnn() -> Result<Self> {
+        Ok(Self::Cnn(BowChangeDetector::pretrained()?))
+    }
+
+    /// Reads a weights file of either network, told apart by its `format` metadata.
+    pub fn load(path: &Path) -> Result<Self> {
+        let bytes = std::fs::read(path)
+            .map_err(|e| NetError::weights(path, format!("cannot read the weights file ({e})")))?;
+        let parsed = file::decode(&bytes, path)?;
+        let format = parsed
+            .metadata
+            .get(net_core::KEY_FORMAT)
+            .map(String::as_str)
+            .unwrap_or("");
+        match format {
+            STROKE_FORMAT_NAME => Ok(Self::Strokes(StrokeDetector::from_bytes(&bytes, path)?)),
+            FORMAT_NAME => Ok(Self::Cnn(BowChangeDetector::from_bytes(&bytes, path)?)),
+            other => Err(NetError::weights(
+                path,
+                format!(
+                    "format \"{other}\" is neither {STROKE_FORMAT_NAME} nor {FORMAT_NAME}; \
+                     give weights written by `violin-skeleton train bowing`"
+                ),
+            )),
+        }
+    }
+
+    /// Bow changes (and, for the stroke network, played stretches and strings) of a
+    /// recording.
+    pub fn analyze_audio(&self, audio: &dsp_mel::Audio) -> Result<StrokeAnalysis> {
+        match self {
+            Self::Strokes(d) => d.analyze_audio(audio),
+            Self::Ensemble(cnn, strokes) => {
+                let mel = bowing_mel(audio)?;
+                let probs = cnn.frame_probabilities(mel.view())?;
+                strokes.analyze_mel_with(mel.view(), Some(&probs))
+            }
+            Self::Cnn(d) => {
+                let mel = bowing_mel(audio)?;
+                let probs = d.frame_probabilities(mel.view())?;
+                Ok(StrokeAnalysis {
+                    bow_changes_s: d
+                        .decoder()
+                        .pick_fractional(&probs)
+                        .into_iter()
+                        .map(|f| f / FPS)
+                        .collect(),
+                    played_s: Vec::new(),
+                    frames: FrameOutputs {
+                        change: probs,
+                        ..FrameOutputs::default()
+                    },
+                })
+            }
+        }
+    }
+}

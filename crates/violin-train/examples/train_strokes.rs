@@ -1,0 +1,288 @@
+//! Trains the stroke network (bow change, direction, string; `bowing_net::stroke`) on a
+//! corpus's training split, tunes its decoder on the validation split, and reports it on the
+//! corpus's four test sets side by side with the bow-change CNN (held-out sets first), and
+//! per violin source on the held-out-violin sets.
+//!
+//! ```text
+//! cargo run --release -p violin-train --example train_strokes -- CORPUS OUT.safetensors [EPOCHS]
+//! cargo run --release -p violin-train --example train_strokes -- CORPUS --eval W.safetensors [--write-ensemble]
+//! ```
+//!
+//! After training (or with `--write-ensemble`), the decoder of the mean of the CNN's and the
+//! stroke network's change probabilities is tuned on the validation split and stored in the
+//! weights file (the shipped default uses that ensemble).
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+use bowing_net::data::Recording;
+use bowing_net::metrics::{match_events, Counts};
+use bowing_net::stroke::metrics::{score_recordings, StrokeScores};
+use bowing_net::stroke::train::{train_strokes, StrokeTrainConfig};
+use bowing_net::stroke::StrokeDetector;
+use bowing_net::BowChangeDetector;
+use violin_train::bowing_data::{load_dataset, read_manifest};
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let (Some(corpus), Some(second)) = (args.first(), args.get(1)) else {
+        eprintln!("usage: train_strokes CORPUS OUT.safetensors [EPOCHS] | CORPUS --eval W");
+        std::process::exit(2);
+    };
+    let corpus = PathBuf::from(corpus);
+    let started = std::time::Instant::now();
+    let data = load_dataset(&corpus, &|_, _| {})?;
+    eprintln!(
+        "loaded {} train / {} val / {} test recordings in {:.0} s",
+        data.train.len(),
+        data.val.len(),
+        data.test.len(),
+        started.elapsed().as_secs_f64()
+    );
+    let write_ensemble = second != "--eval" || args.get(3).is_some_and(|a| a == "--write-ensemble");
+    let weights = if second == "--eval" {
+        PathBuf::from(args.get(2).ok_or("--eval needs a weights file")?)
+    } else {
+        let out = PathBuf::from(second);
+        let cfg = StrokeTrainConfig {
+            epochs: args.get(2).map_or(Ok(20), |e| e.parse())?,
+            ..StrokeTrainConfig::default()
+        };
+        let report = train_strokes(&data, &cfg, &out, &mut |p| {
+            if let Some(v) = &p.val {
+                eprintln!(
+                    "epoch {:>2}: loss {:.4}  val change F1 {:.3}  string {:.3}  ({:.0} s)",
+                    p.epoch + 1,
+                    p.loss,
+                    v.change_f1(),
+                    v.string_accuracy(),
+                    p.elapsed_s
+                );
+            } else if p.step % 50 == 0 {
+                eprintln!(
+                    "  epoch {} step {}/{} loss {:.4} ({:.0} s)",
+                    p.epoch + 1,
+                    p.step,
+                    p.steps,
+                    p.loss,
+                    p.elapsed_s
+                );
+            }
+        })?;
+        eprintln!(
+            "kept epoch {} of {}; {:.0} s",
+            report.best_epoch + 1,
+            report.epochs_run,
+            report.elapsed_s
+        );
+        out
+    };
+    report(&corpus, &data.val, &data.test, &weights, write_ensemble)
+}
+
+/// The mean of the CNN's and the stroke network's change probabilities.
+fn ensemble_probs(
+    cnn: &BowChangeDetector,
+    strokes: &StrokeDetector,
+    r: &Recording,
+) -> Result<Vec<f32>, Box<dyn std::error::Error>> {
+    let a = cnn.frame_probabilities(r.mel_db.view())?;
+    let b = strokes.frame_outputs(r.mel_db.view())?.change;
+    Ok(a.iter().zip(&b).map(|(x, y)| 0.5 * (x + y)).collect())
+}
+
+fn report(
+    corpus: &std::path::Path,
+    val: &[Recording],
+    test: &[Recording],
+    weights: &std::path::Path,
+    write_ensemble: bool,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let manifest = read_manifest(corpus)?;
+    let info: BTreeMap<&str, (String, &str)> = manifest
+        .items
+        .iter()
+        .map(|i| {
+            let set = serde_json::to_value(i.held_out)
+                .ok()
+                .and_then(|v| v.as_str().map(str::to_string))
+                .unwrap_or_default();
+            (i.dir.as_str(), (set, i.violin.as_str()))
+        })
+        .collect();
+    let mut strokes = StrokeDetector::load(weights)?;
+    let cnn = BowChangeDetector::pretrained()?;
+    let mut by_set: BTreeMap<String, Vec<&Recording>> = BTreeMap::new();
+    let mut by_violin: BTreeMap<String, Vec<&Recording>> = BTreeMap::new();
+    for r in test {
+        let (set, violin) = info.get(r.name.as_str()).cloned().unwrap_or_default();
+        if set == "violin" || set == "both" {
+            by_violin.entry(violin.to_string()).or_default().push(r);
+        }
+        by_set.entry(set).or_default().push(r);
+    }
+    let pipeline = violin_skeleton::Pipeline::default();
+    let val_probs = val
+        .iter()
+        .map(|r| ensemble_probs(&cnn, &strokes, r))
+        .collect::<Result<Vec<_>, _>>()?;
+    let (ensemble_decoder, ensemble_val_f1) = bowing_net::metrics::tune_decoder(&val_probs, val);
+    eprintln!("ensemble decoder {ensemble_decoder:?}, validation F1 {ensemble_val_f1:.3}");
+    if write_ensemble {
+        strokes.set_ensemble_decoder(Some(ensemble_decoder));
+        strokes.save(weights)?;
+        eprintln!("wrote the ensemble decoder into {}", weights.display());
+    }
+    let strokes = {
+        let mut s = strokes;
+        s.set_ensemble_decoder(Some(ensemble_decoder));
+        s
+    };
+    let score = |recs: &[&Recording]| -> Result<Row, Box<dyn std::error::Error>> {
+        let owned: Vec<Recording> = recs.iter().map(|r| (*r).clone()).collect();
+        let (s, _) = score_recordings(&strokes, &owned, Some(strokes.decoder()))?;
+        let mut row = Row {
+            strokes: s,
+            ..Row::default()
+        };
+        for r in recs {
+            row.cnn.add(&match_events(
+                &cnn.detect_frames(r.mel_db.view())?,
+                &r.changes,
+                2,
+            ));
+            let cnn_p = cnn.frame_probabilities(r.mel_db.view())?;
+            let both = strokes.analyze_mel_with(r.mel_db.view(), Some(&cnn_p))?;
+            let frames: Vec<usize> = both
+                .bow_changes_s
+                .iter()
+                .map(|t| (t * 30.0).round() as usize)
+                .collect();
+            row.ensemble.add(&match_events(&frames, &r.changes, 2));
+            extra_scores(corpus, r, &strokes, &pipeline, &mut row)?;
+        }
+        Ok(row)
+    };
+    println!("| set | items | CNN change F1 | stroke-net change F1 | CNN+stroke-net change F1 | direction rules (tracked downbeats) | direction rules (true downbeats) | direction inferred (tracked) | direction inferred (true) | string: network | string: fingering planner |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|");
+    for set in ["both", "repertoire", "violin", "none"] {
+        let Some(recs) = by_set.get(set) else {
+            continue;
+        };
+        let row = score(recs)?;
+        println!(
+            "| {} | {} | {} |",
+            match set {
+                "both" => "held-out both",
+                "repertoire" => "held-out repertoire",
+                "violin" => "held-out violin",
+                _ => "in-distribution",
+            },
+            recs.len(),
+            row.cells()
+        );
+    }
+    println!("\nheld-out violins (held-out violin + both sets), per source:\n");
+    println!("| violin | items | CNN change F1 | stroke-net change F1 | CNN+stroke-net change F1 | direction rules (tracked downbeats) | direction rules (true downbeats) | direction inferred (tracked) | direction inferred (true) | string: network | string: fingering planner |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|");
+    for (violin, recs) in &by_violin {
+        let row = score(recs)?;
+        println!("| {violin} | {} | {} |", recs.len(), row.cells());
+    }
+    Ok(())
+}
+
+#[derive(Default)]
+struct Row {
+    cnn: Counts,
+    ensemble: Counts,
+    strokes: StrokeScores,
+    direction_tracked: (usize, usize),
+    direction_true: (usize, usize),
+    inferred_tracked: (usize, usize),
+    inferred_true: (usize, usize),
+    planner_strings: (usize, usize),
+}
+
+impl Row {
+    fn cells(&self) -> String {
+        let r = |(a, b): (usize, usize)| a as f64 / b.max(1) as f64;
+        format!(
+            "{:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3}",
+            self.cnn.f1(),
+            self.strokes.change_f1(),
+            self.ensemble.f1(),
+            r(self.direction_tracked),
+            r(self.direction_true),
+            r(self.inferred_tracked),
+            r(self.inferred_true),
+            self.strokes.string_accuracy(),
+            r(self.planner_strings)
+        )
+    }
+}
+
+/// Stroke directions by the bowing rules over the network's changes (with tracked and with
+/// true downbeats), and the fingering planner's string per frame, for one test item.
+fn extra_scores(
+    corpus: &std::path::Path,
+    r: &Recording,
+    strokes: &StrokeDetector,
+    pipeline: &violin_skeleton::Pipeline,
+    row: &mut Row,
+) -> Result<(), Box<dyn std::error::Error>> {
+    use performance::{bow_directions, strokes_of, Note};
+    let dir = corpus.join(&r.name);
+    let audio = dsp_mel::load_audio(&corpus::layout::item_audio(&dir))?;
+    let analysis = pipeline.analyze(&audio)?;
+    let found = strokes.analyze_mel(r.mel_db.view())?;
+    // Notes that only say when something sounds: the played stretches cut at the changes.
+    let mut notes = Vec::new();
+    for &(a, b) in &found.played_s {
+        let mut from = a;
+        for &c in found.bow_changes_s.iter().filter(|&&c| c > a && c < b) {
+            notes.push(Note::new(from, c, 60));
+            from = c;
+        }
+        notes.push(Note::new(from, b, 60));
+    }
+    let truth_downbeats = violin_train::bowing_data::read_times(&dir.join("downbeats.txt"))?;
+    type Rule = fn(&[f64], &[Note], &[f64]) -> Vec<performance::BowDirection>;
+    let rules: Rule = bow_directions;
+    let inferred: Rule = performance::infer_bow_directions;
+    for (downbeats, counts, rule) in [
+        (&analysis.downbeats_s, &mut row.direction_tracked, rules),
+        (&truth_downbeats, &mut row.direction_true, rules),
+        (&analysis.downbeats_s, &mut row.inferred_tracked, inferred),
+        (&truth_downbeats, &mut row.inferred_true, inferred),
+    ] {
+        let dirs = rule(&found.bow_changes_s, &notes, downbeats);
+        let predicted = strokes_of(&found.bow_changes_s, &dirs, &notes);
+        for s in &r.strokes {
+            let mid = 0.5 * (s.start_s + s.end_s);
+            counts.1 += 1;
+            let i = predicted.partition_point(|p| p.start_s <= mid);
+            if i > 0 && predicted[i - 1].direction == s.direction {
+                counts.0 += 1;
+            }
+        }
+    }
+    for (f, &string) in r.strings.iter().enumerate() {
+        if !(1..=4).contains(&string) {
+            continue;
+        }
+        let t = f as f64 / 30.0;
+        row.planner_strings.1 += 1;
+        let i = analysis.notes.partition_point(|n| n.onset_s <= t);
+        let planned = i
+            .checked_sub(1)
+            .and_then(|i| analysis.notes.get(i))
+            .filter(|n| t < n.offset_s)
+            .and_then(|n| n.fingering)
+            .map(|f| f.string.number());
+        if planned == Some(string) {
+            row.planner_strings.0 += 1;
+        }
+    }
+    Ok(())
+}
