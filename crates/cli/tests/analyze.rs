@@ -74,6 +74,14 @@ fn synthetic_violin_gives_the_schema() {
         assert!(n["finger"].as_u64().unwrap() <= 4);
         assert!(n["offset_s"].as_f64().unwrap() > n["onset_s"].as_f64().unwrap());
     }
+    // Strokes: one per bow change, each with a direction and a string.
+    let strokes = a["bow_strokes"].as_array().unwrap();
+    assert_eq!(strokes.len(), a["bow_changes_s"].as_array().unwrap().len());
+    assert!(!strokes.is_empty());
+    for s in strokes {
+        assert!((1..=4).contains(&s["string"].as_u64().unwrap()), "{s}");
+        assert!(["down", "up"].contains(&s["direction"].as_str().unwrap()), "{s}");
+    }
     let beats = a["beats_s"].as_array().unwrap();
     assert!(beats.len() >= 20, "{} beats", beats.len());
     assert!(!a["downbeats_s"].as_array().unwrap().is_empty());
@@ -157,25 +165,31 @@ fn weight_flags_load_the_given_files() {
     write_wav(&wav, &tone, 22_050);
     let out = dir.path().join("a.json");
 
-    // The embedded bow-change weights, given as a file, give the default result.
-    let weights = dir.path().join("bowing.safetensors");
-    std::fs::copy(
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../bowing-net/weights/bowing-net.safetensors"),
-        &weights,
-    )
-    .unwrap();
-    let st = analyze(&wav, &out, &["--quiet"]);
-    assert!(st.status.success());
-    let default: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
-    let w = weights.to_str().unwrap();
-    let st = analyze(&wav, &out, &["--quiet", "--bowing-weights", w]);
-    assert!(
-        st.status.success(),
-        "{}",
-        String::from_utf8_lossy(&st.stderr)
-    );
-    let given: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
-    assert_eq!(given["bow_changes_s"], default["bow_changes_s"]);
+    // Each embedded bowing model, given as a file, gives the result of choosing it.
+    let weights_dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../bowing-net/weights");
+    let mut w = String::new();
+    for (file, net) in [
+        ("bowing-net.safetensors", "cnn"),
+        ("stroke-net.safetensors", "strokes"),
+    ] {
+        let weights = dir.path().join(file);
+        std::fs::copy(weights_dir.join(file), &weights).unwrap();
+        let st = analyze(&wav, &out, &["--quiet", "--bowing-net", net]);
+        assert!(st.status.success());
+        let chosen: Value =
+            serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+        w = weights.to_str().unwrap().to_string();
+        let st = analyze(&wav, &out, &["--quiet", "--bowing-weights", &w]);
+        assert!(
+            st.status.success(),
+            "{}",
+            String::from_utf8_lossy(&st.stderr)
+        );
+        let given: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+        assert_eq!(given["bow_changes_s"], chosen["bow_changes_s"], "{net}");
+        assert_eq!(given["bow_strokes"], chosen["bow_strokes"], "{net}");
+    }
+    let w = w.as_str();
 
     // A file that is not emotion-net weights is one readable error naming it.
     std::fs::remove_file(&out).unwrap();
@@ -184,7 +198,7 @@ fn weight_flags_load_the_given_files() {
     let err = String::from_utf8_lossy(&st.stderr);
     assert!(
         err.starts_with("error:")
-            && err.matches("bowing.safetensors").count() == 1
+            && err.matches("stroke-net.safetensors").count() == 1
             && err.lines().count() == 1,
         "{err}"
     );

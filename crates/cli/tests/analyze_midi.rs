@@ -81,7 +81,15 @@ fn a_midi_file_gives_the_analysis_schema() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let v: Value = serde_json::from_slice(&std::fs::read(&out).unwrap()).unwrap();
     assert_eq!(v["source"], "midi");
-    assert_eq!(v["schema_version"], 2);
+    assert_eq!(v["schema_version"], 3);
+    // One stroke per bow change, with its direction and the string of its first note.
+    let strokes = v["bow_strokes"].as_array().unwrap();
+    assert_eq!(strokes.len(), v["bow_changes_s"].as_array().unwrap().len());
+    for s in strokes {
+        assert!(["down", "up"].contains(&s["direction"].as_str().unwrap()), "{s}");
+        assert!((1..=4).contains(&s["string"].as_u64().unwrap()), "{s}");
+        assert!(s["end_s"].as_f64().unwrap() >= s["start_s"].as_f64().unwrap());
+    }
     let notes = v["notes"].as_array().unwrap();
     assert_eq!(notes.len(), 9); // the double stop is kept
     for n in notes {

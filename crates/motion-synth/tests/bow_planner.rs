@@ -139,3 +139,30 @@ fn downbeats_get_down_bows_when_the_changes_allow() {
         "an up-bow start begins at the tip"
     );
 }
+
+#[test]
+fn given_directions_are_followed_and_a_retake_starts_again_at_the_frog() {
+    use motion_synth::bow::plan_bow_directed;
+    // Down, up, then a down-bow retaken (down again) after a long stroke.
+    let (c, total) = changes(&[30, 30, 40, 30]);
+    let dirs = [
+        BowDirection::Down,
+        BowDirection::Up,
+        BowDirection::Down,
+        BowDirection::Down,
+    ];
+    let plan = plan_bow_directed(
+        &c,
+        total,
+        |f| dirs[c.iter().filter(|&&x| x <= f).count()],
+        &BowPolicy::default(),
+    )
+    .unwrap();
+    let got: Vec<BowDirection> = plan.strokes().iter().map(|s| s.direction).collect();
+    assert_eq!(got, dirs);
+    assert_eq!(bow_range_violations(plan.positions()), 0.0);
+    let s = plan.strokes();
+    // The retaken stroke does not start where the previous down-bow ended (near the tip).
+    assert!(s[3].start_position < s[2].end_position, "{s:?}");
+    assert!(s[3].end_position > s[3].start_position);
+}

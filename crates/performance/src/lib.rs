@@ -36,7 +36,6 @@
 
 mod analysis;
 mod arousal;
-mod bow_inference;
 mod bowing;
 mod error;
 mod matching;
@@ -56,7 +55,6 @@ mod validate;
 pub use crate::performance::{Performance, PerformanceBuilder, PerformanceParts};
 pub use analysis::{Analysis, F0Track, ANALYSIS_SCHEMA_VERSION};
 pub use arousal::{arousal_proxy_of_spans, ArousalCurve};
-pub use bow_inference::infer_bow_directions;
 pub use bowing::{bow_directions, BowDirection, RETAKE_REST_S};
 #[cfg(feature = "midi")]
 pub use error::MidiError;

@@ -163,8 +163,8 @@ fn report(
         }
         Ok(row)
     };
-    println!("| set | items | CNN change F1 | stroke-net change F1 | CNN+stroke-net change F1 | direction rules (tracked downbeats) | direction rules (true downbeats) | direction inferred (tracked) | direction inferred (true) | string: network | string: fingering planner |");
-    println!("|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("| set | items | CNN change F1 | stroke-net change F1 | CNN+stroke-net change F1 | direction by the rules (tracked downbeats) | direction by the rules (true downbeats) | string: network | string: fingering planner |");
+    println!("|---|---|---|---|---|---|---|---|---|");
     for set in ["both", "repertoire", "violin", "none"] {
         let Some(recs) = by_set.get(set) else {
             continue;
@@ -183,8 +183,8 @@ fn report(
         );
     }
     println!("\nheld-out violins (held-out violin + both sets), per source:\n");
-    println!("| violin | items | CNN change F1 | stroke-net change F1 | CNN+stroke-net change F1 | direction rules (tracked downbeats) | direction rules (true downbeats) | direction inferred (tracked) | direction inferred (true) | string: network | string: fingering planner |");
-    println!("|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("| violin | items | CNN change F1 | stroke-net change F1 | CNN+stroke-net change F1 | direction by the rules (tracked downbeats) | direction by the rules (true downbeats) | string: network | string: fingering planner |");
+    println!("|---|---|---|---|---|---|---|---|---|");
     for (violin, recs) in &by_violin {
         let row = score(recs)?;
         println!("| {violin} | {} | {} |", recs.len(), row.cells());
@@ -199,8 +199,6 @@ struct Row {
     strokes: StrokeScores,
     direction_tracked: (usize, usize),
     direction_true: (usize, usize),
-    inferred_tracked: (usize, usize),
-    inferred_true: (usize, usize),
     planner_strings: (usize, usize),
 }
 
@@ -208,14 +206,12 @@ impl Row {
     fn cells(&self) -> String {
         let r = |(a, b): (usize, usize)| a as f64 / b.max(1) as f64;
         format!(
-            "{:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3}",
+            "{:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3}",
             self.cnn.f1(),
             self.strokes.change_f1(),
             self.ensemble.f1(),
             r(self.direction_tracked),
             r(self.direction_true),
-            r(self.inferred_tracked),
-            r(self.inferred_true),
             self.strokes.string_accuracy(),
             r(self.planner_strings)
         )
@@ -247,16 +243,11 @@ fn extra_scores(
         notes.push(Note::new(from, b, 60));
     }
     let truth_downbeats = violin_train::bowing_data::read_times(&dir.join("downbeats.txt"))?;
-    type Rule = fn(&[f64], &[Note], &[f64]) -> Vec<performance::BowDirection>;
-    let rules: Rule = bow_directions;
-    let inferred: Rule = performance::infer_bow_directions;
-    for (downbeats, counts, rule) in [
-        (&analysis.downbeats_s, &mut row.direction_tracked, rules),
-        (&truth_downbeats, &mut row.direction_true, rules),
-        (&analysis.downbeats_s, &mut row.inferred_tracked, inferred),
-        (&truth_downbeats, &mut row.inferred_true, inferred),
+    for (downbeats, counts) in [
+        (&analysis.downbeats_s, &mut row.direction_tracked),
+        (&truth_downbeats, &mut row.direction_true),
     ] {
-        let dirs = rule(&found.bow_changes_s, &notes, downbeats);
+        let dirs = bow_directions(&found.bow_changes_s, &notes, downbeats);
         let predicted = strokes_of(&found.bow_changes_s, &dirs, &notes);
         for s in &r.strokes {
             let mid = 0.5 * (s.start_s + s.end_s);
