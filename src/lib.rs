@@ -22,6 +22,7 @@
 //! # Ok::<(), violin_skeleton::Error>(())
 //! ```
 
+mod beats;
 mod chunking;
 mod error;
 mod fingering_plan;
@@ -32,6 +33,7 @@ mod models;
 pub mod networks;
 mod pipeline;
 
+pub use beats::BeatMethod;
 pub use chunking::Chunking;
 pub use error::{Error, Result};
 pub use fingering::{FingeringStyle, ViolinString};

@@ -195,6 +195,8 @@ impl Pipeline {
         };
         let mut tempi: Vec<(f64, f64)> = Vec::new();
         let mut meter = None;
+        // (confidence, seconds) of every chunk that has one.
+        let mut confidences: Vec<(f64, f64)> = Vec::new();
         let (duration_s, decode_s) = for_each_chunk(&mut reader, self.chunking(), |chunk| {
             let (a, t) = self
                 .analyze_timed(&chunk.audio)
@@ -216,6 +218,9 @@ impl Pipeline {
             take_events(&a.downbeats_s, &chunk, &mut downbeats_s);
             tempi.push((a.tempo_bpm, chunk.core_end_s - chunk.core_start_s));
             meter = meter.or(a.meter);
+            if let Some(c) = a.beat_confidence {
+                confidences.push((f64::from(c), chunk.core_end_s - chunk.core_start_s));
+            }
             progress(chunk.core_end_s, total_s);
             Ok(())
         })?;
@@ -232,10 +237,12 @@ impl Pipeline {
             notes,
             bow_changes_s,
             bow_directions,
+            tempo_bpm_per_beat: performance::tempo_per_beat(&beats_s),
             beats_s,
             downbeats_s,
             tempo_bpm: weighted_median(&mut tempi),
             meter,
+            beat_confidence: weighted_mean(&confidences),
             arousal,
         };
         Ok((analysis, timings))
@@ -317,6 +324,12 @@ fn name_file(e: Error, path: &Path) -> Error {
 }
 
 /// The tempo that covers the most time.
+/// The weighted mean of `(value, weight)` pairs (`None` when there are none).
+fn weighted_mean(values: &[(f64, f64)]) -> Option<f32> {
+    let total: f64 = values.iter().map(|(_, w)| w).sum();
+    (total > 0.0).then(|| (values.iter().map(|(v, w)| v * w).sum::<f64>() / total) as f32)
+}
+
 fn weighted_median(tempi: &mut Vec<(f64, f64)>) -> f64 {
     tempi.retain(|(t, _)| t.is_finite());
     tempi.sort_by(|a, b| a.0.total_cmp(&b.0));

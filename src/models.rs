@@ -5,6 +5,7 @@
 use std::path::Path;
 use std::sync::{Arc, OnceLock};
 
+use beat_net::BeatActivation;
 use bowing_net::BowChangeDetector;
 use emotion_net::ArousalEstimator;
 
@@ -24,6 +25,7 @@ fn get<T>(slot: &Slot<T>, load: impl FnOnce() -> Result<Arc<T>>) -> Result<Arc<T
 #[derive(Default)]
 pub(crate) struct LoadedModels {
     bowing: Slot<BowChangeDetector>,
+    beat: Slot<BeatActivation>,
     emotion: Slot<ArousalEstimator>,
     #[cfg(feature = "gru")]
     gru: Slot<gru_baseline::GruBaseline>,
@@ -45,6 +47,11 @@ impl LoadedModels {
             Some(p) => networks::load_bowing(p),
             None => networks::pretrained_bowing(),
         })
+    }
+
+    /// The beat/downbeat activation network (the embedded default).
+    pub(crate) fn beat(&self) -> Result<Arc<BeatActivation>> {
+        get(&self.beat, networks::pretrained_beat)
     }
 
     /// The arousal estimator: from `path`, or the embedded default.

@@ -4,6 +4,7 @@
 use std::path::Path;
 use std::sync::{Arc, OnceLock};
 
+use beat_net::{Activations, BeatActivation};
 use bowing_net::BowChangeDetector;
 use dsp_mel::Audio;
 use emotion_net::ArousalEstimator;
@@ -29,6 +30,7 @@ fn load_err(path: &Path, e: impl std::fmt::Display) -> Error {
 }
 
 static BOWING: OnceLock<std::result::Result<Arc<BowChangeDetector>, String>> = OnceLock::new();
+static BEAT: OnceLock<std::result::Result<Arc<BeatActivation>, String>> = OnceLock::new();
 static EMOTION: OnceLock<std::result::Result<Arc<ArousalEstimator>, String>> = OnceLock::new();
 #[cfg(feature = "gru")]
 static GRU: OnceLock<std::result::Result<Arc<GruBaseline>, String>> = OnceLock::new();
@@ -43,6 +45,17 @@ pub fn pretrained_bowing() -> Result<Arc<BowChangeDetector>> {
         })
         .clone()
         .map_err(|e| net_err("embedded bowing-net weights", e))
+}
+
+/// The embedded beat/downbeat activation network (loaded once).
+pub fn pretrained_beat() -> Result<Arc<BeatActivation>> {
+    BEAT.get_or_init(|| {
+        BeatActivation::pretrained()
+            .map(Arc::new)
+            .map_err(|e| e.to_string())
+    })
+    .clone()
+    .map_err(|e| net_err("embedded beat-net weights", e))
 }
 
 /// The embedded arousal estimator (loaded once).
@@ -96,6 +109,37 @@ pub fn bow_changes(detector: &BowChangeDetector, audio: &Audio) -> Result<Vec<f6
     detector
         .detect_audio(audio)
         .map_err(|e| net_err("bow-change detection", e))
+}
+
+/// The 30 fps × 128 mel dB spectrogram both frame networks read, of `audio` (analysis rate).
+pub fn mel30(audio: &Audio) -> Result<ndarray::Array2<f32>> {
+    bowing_net::features::bowing_mel(audio).map_err(|e| net_err("mel spectrogram", e))
+}
+
+/// Bow changes (seconds) from the 30 fps mel ([`mel30`]), as
+/// [`BowChangeDetector::detect_audio`] finds them.
+pub fn bow_changes_of_mel(
+    detector: &BowChangeDetector,
+    mel: ndarray::ArrayView2<f32>,
+) -> Result<Vec<f64>> {
+    let probs = detector
+        .frame_probabilities(mel)
+        .map_err(|e| net_err("bow-change detection", e))?;
+    Ok(detector
+        .decoder()
+        .pick_fractional(&probs)
+        .into_iter()
+        .map(|f| f / bowing_net::features::FPS)
+        .collect())
+}
+
+/// Beat and downbeat activations (30 fps) from the 30 fps mel ([`mel30`]).
+pub fn beat_activations(
+    net: &BeatActivation,
+    mel: ndarray::ArrayView2<f32>,
+) -> Result<Activations> {
+    net.activations(mel)
+        .map_err(|e| net_err("beat activation", e))
 }
 
 /// Arousal at 2 Hz for `audio`, one value per half second of `duration_s`.

@@ -13,6 +13,7 @@ use pitch_track::{
 };
 use skeleton::Motion;
 
+use crate::beats::{self, BeatMethod};
 use crate::chunking::Chunking;
 use crate::error::{Error, Result};
 use crate::fingering_plan::{plan_notes, PlannerKind, SulSpan};
@@ -121,6 +122,7 @@ pub struct Pipeline {
     emotion_weights: Option<PathBuf>,
     gru_weights: Option<PathBuf>,
     chunking: Chunking,
+    beat_method: BeatMethod,
     models: Arc<LoadedModels>,
 }
 
@@ -200,6 +202,12 @@ impl PipelineBuilder {
         self
     }
 
+    /// The beat tracker of the audio analysis (default: learned).
+    pub fn beat_method(mut self, method: BeatMethod) -> Self {
+        self.inner.beat_method = method;
+        self
+    }
+
     /// How files longer than three minutes are cut for [`Pipeline::analyze_file`].
     pub fn chunking(mut self, chunking: Chunking) -> Self {
         self.inner.chunking = chunking;
@@ -273,14 +281,24 @@ impl Pipeline {
         };
         let network_side = || -> Result<_> {
             let clock = Instant::now();
+            // One 30 fps mel for the two frame networks.
+            let mel = networks::mel30(&analysed)?;
             let bowing = self.models.bowing(self.bowing_weights.as_deref())?;
-            let bow_changes_s = networks::bow_changes(&bowing, &analysed)?;
+            let bow_changes_s = networks::bow_changes_of_mel(&bowing, mel.view())?;
+            let activations = match self.beat_method {
+                BeatMethod::Learned => Some(networks::beat_activations(
+                    &*self.models.beat()?,
+                    mel.view(),
+                )?),
+                BeatMethod::Classic => None,
+            };
             let bowing_s = clock.elapsed().as_secs_f64();
             let clock = Instant::now();
             let emotion = self.models.emotion(self.emotion_weights.as_deref())?;
             let arousal = networks::arousal(&emotion, &analysed, audio.duration_s())?;
             Ok((
                 bow_changes_s,
+                activations,
                 arousal,
                 bowing_s,
                 clock.elapsed().as_secs_f64(),
@@ -288,16 +306,12 @@ impl Pipeline {
         };
         let (score, nets) = rayon::join(score_side, network_side);
         let (track, notes, pitch_s) = score?;
-        let (bow_changes_s, arousal, bowing_s, arousal_s) = nets?;
-        // Bars tend to start with a new bow: bow changes are metre evidence.
+        let (bow_changes_s, activations, arousal, bowing_s, arousal_s) = nets?;
         let clock = Instant::now();
-        let beats = beat_track::BeatTracker::new(beat_track::BeatConfig::default())?.track_with(
-            samples,
-            beat_track::BarEvidence {
-                notes: Some(&notes),
-                bow_changes_s: Some(&bow_changes_s),
-            },
-        )?;
+        let beats = match &activations {
+            Some(act) => beats::learned(act, &notes)?,
+            None => beats::classic(samples, &notes, &bow_changes_s)?,
+        };
         let beats_s = clock.elapsed().as_secs_f64();
         timings.pitch_s = pitch_s;
         timings.beats_s = beats_s;
@@ -314,6 +328,7 @@ impl Pipeline {
             .map(|(n, f)| Note { fingering: f, ..*n })
             .collect();
         let bow_directions = bow_directions(&bow_changes_s, &analyzed_notes, &beats.downbeats_s);
+        let tempo_bpm_per_beat = performance::tempo_per_beat(&beats.beats_s);
         let analysis = Analysis {
             schema_version: performance::ANALYSIS_SCHEMA_VERSION,
             source: "audio".into(),
@@ -325,8 +340,10 @@ impl Pipeline {
             bow_directions,
             beats_s: beats.beats_s,
             downbeats_s: beats.downbeats_s,
+            tempo_bpm_per_beat,
             tempo_bpm: beats.tempo_bpm,
-            meter: Some(beats.meter),
+            meter: beats.meter,
+            beat_confidence: beats.confidence,
             arousal: ArousalCurve::deam(arousal),
         };
         Ok((analysis, timings))

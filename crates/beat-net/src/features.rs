@@ -71,7 +71,11 @@ pub fn frame_features(mel_db: ArrayView2<f32>) -> Result<Array2<f32>> {
             .map(|v| (v - reference).clamp(-RANGE_DB, RANGE_DB))
             .collect();
         let flux = previous.as_ref().map_or(0.0, |p| {
-            rel.iter().zip(p).map(|(a, b)| (a - b).max(0.0)).sum::<f32>() / bands as f32
+            rel.iter()
+                .zip(p)
+                .map(|(a, b)| (a - b).max(0.0))
+                .sum::<f32>()
+                / bands as f32
         });
         let loudest = rel.iter().copied().fold(-RANGE_DB, f32::max);
         let mut dst = out.row_mut(t);

@@ -208,7 +208,12 @@ fn check(data: &Splits, cfg: &TrainConfig) -> Result<()> {
         ));
     }
     let f = cfg.model.tcn.in_features;
-    if let Some(r) = data.train.iter().chain(&data.val).find(|r| r.features.ncols() != f) {
+    if let Some(r) = data
+        .train
+        .iter()
+        .chain(&data.val)
+        .find(|r| r.features.ncols() != f)
+    {
         return Err(BeatNetError::Input(format!(
             "{} has {} features per frame, the network takes {f}",
             r.name,

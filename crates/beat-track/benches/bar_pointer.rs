@@ -14,7 +14,7 @@ fn bench(c: &mut Criterion) {
     let mut k = 0usize;
     while t < 179.0 {
         let f = (t * 30.0).round() as usize;
-        if k % 3 == 0 {
+        if k.is_multiple_of(3) {
             down[f] = 0.8;
         } else {
             beat[f] = 0.8;

@@ -62,8 +62,10 @@ impl Default for BarPointerConfig {
             min_bpm: 38.0,
             max_bpm: 215.0,
             beats_per_bar: vec![1, 2, 3, 4],
-            transition_lambda: 100.0,
-            observation_lambda: 16.0,
+            // Chosen on the corpus's validation split with beat-net's activations
+            // (violin-train's `tune_beats` example); madmom uses 100 and 16 at 100 fps.
+            transition_lambda: 60.0,
+            observation_lambda: 6.0,
             gate: 0.1,
             gate_window_s: 1.5,
             min_confidence: 0.1,

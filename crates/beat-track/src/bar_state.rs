@@ -108,17 +108,19 @@ impl BarStateSpace {
         let blocks = nq * nb;
         let len = |k: usize| self.intervals[k / nb];
         let beat_obs = |o: &FrameObservation, k: usize| {
-            f64::from(if k % nb == 0 { o.downbeat } else { o.beat })
+            f64::from(if self.downbeat_block[k] {
+                o.downbeat
+            } else {
+                o.beat
+            })
         };
         // Slot of position p in block k is offsets[k] + (head[k] + p) % len.
         let mut raw = vec![0.0f64; self.states];
-        let mut base = vec![0.0f64; blocks];
-        let mut head = vec![0usize; blocks];
         // A uniform start.
-        for k in 0..blocks {
-            let (q, off) = (k / nb, self.offsets[k]);
-            base[k] = f64::from(obs[0].none);
-            for p in 0..self.region[q] {
+        let mut base = vec![f64::from(obs[0].none); blocks];
+        let mut head = vec![0usize; blocks];
+        for (k, &off) in self.offsets.iter().enumerate() {
+            for p in 0..self.region[k / nb] {
                 raw[off + p] = beat_obs(&obs[0], k) - base[k];
             }
         }

@@ -58,6 +58,7 @@ mod meter_config;
 mod onset;
 mod peaks;
 mod spectrum;
+mod subdivision;
 mod tempo;
 mod tracker;
 
@@ -69,5 +70,6 @@ pub use level::{LevelCandidate, LevelConfig, LevelFeatures, LevelWeights, Tempog
 pub use meter::{estimate_meter, Meter, MeterConfig, MeterEstimate};
 pub use onset::{Aggregate, OnsetConfig, OnsetEnvelope, OnsetStrength};
 pub use peaks::{onset_detect, peak_pick, PeakPick};
+pub use subdivision::subdivisions;
 pub use tempo::{estimate_tempo, mean_tempogram, mean_tempogram_strided, TempoConfig};
 pub use tracker::BeatTracker;

@@ -81,7 +81,7 @@ fn a_midi_file_gives_the_analysis_schema() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let v: Value = serde_json::from_slice(&std::fs::read(&out).unwrap()).unwrap();
     assert_eq!(v["source"], "midi");
-    assert_eq!(v["schema_version"], 2);
+    assert_eq!(v["schema_version"], 3);
     let notes = v["notes"].as_array().unwrap();
     assert_eq!(notes.len(), 9); // the double stop is kept
     for n in notes {

@@ -20,7 +20,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         Some(p) => serde_json::from_str(&std::fs::read_to_string(p)?)?,
         None => TrainConfig::default(),
     };
-    cfg.data_description = format!("{} (train split; val for early stopping)", data_dir.display());
+    cfg.data_description = format!(
+        "{} (train split; val for early stopping)",
+        data_dir.display()
+    );
     let t0 = std::time::Instant::now();
     let data = load_beat_corpus(&data_dir, &|_, _| {})?;
     println!(
@@ -41,7 +44,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 v.downbeat_f,
                 p.elapsed_s
             );
-        } else if p.step % 20 == 0 {
+        } else if p.step.is_multiple_of(20) {
             println!(
                 "  epoch {} step {}/{}: loss {:.4} ({:.0} s)",
                 p.epoch + 1,
