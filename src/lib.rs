@@ -32,6 +32,7 @@ mod midi_analysis;
 mod models;
 pub mod networks;
 mod pipeline;
+mod timings;
 
 pub use beats::BeatMethod;
 pub use chunking::Chunking;
