@@ -23,6 +23,7 @@
 //! ```
 
 mod analysis_performance;
+mod beats;
 mod chunking;
 mod error;
 mod fingering_plan;
@@ -33,7 +34,9 @@ mod models;
 pub mod networks;
 mod pipeline;
 mod strokes;
+mod timings;
 
+pub use beats::BeatMethod;
 pub use chunking::Chunking;
 pub use error::{Error, Result};
 pub use fingering::{FingeringStyle, ViolinString};

@@ -196,6 +196,8 @@ impl Pipeline {
         };
         let mut tempi: Vec<(f64, f64)> = Vec::new();
         let mut meter = None;
+        // (confidence, seconds) of every chunk that has one.
+        let mut confidences: Vec<(f64, f64)> = Vec::new();
         let (duration_s, decode_s) = for_each_chunk(&mut reader, self.chunking(), |chunk| {
             let (a, t) = self
                 .analyze_timed(&chunk.audio)
@@ -215,7 +217,7 @@ impl Pipeline {
             take_events(&a.bow_changes_s, &chunk, &mut bow_changes_s);
             heard_strokes.extend(a.bow_strokes.iter().filter_map(|s| {
                 let start_s = s.start_s + chunk.window_start_s;
-                (start_s >= chunk.core_start_s && start_s < chunk.core_end_s).then(|| BowStroke {
+                (start_s >= chunk.core_start_s && start_s < chunk.core_end_s).then_some(BowStroke {
                     start_s,
                     end_s: s.end_s + chunk.window_start_s,
                     ..*s
@@ -225,6 +227,9 @@ impl Pipeline {
             take_events(&a.downbeats_s, &chunk, &mut downbeats_s);
             tempi.push((a.tempo_bpm, chunk.core_end_s - chunk.core_start_s));
             meter = meter.or(a.meter);
+            if let Some(c) = a.beat_confidence {
+                confidences.push((f64::from(c), chunk.core_end_s - chunk.core_start_s));
+            }
             progress(chunk.core_end_s, total_s);
             Ok(())
         })?;
@@ -250,10 +255,12 @@ impl Pipeline {
             bow_changes_s,
             bow_directions,
             bow_strokes,
+            tempo_bpm_per_beat: performance::tempo_per_beat(&beats_s),
             beats_s,
             downbeats_s,
             tempo_bpm: weighted_median(&mut tempi),
             meter,
+            beat_confidence: weighted_mean(&confidences),
             arousal,
         };
         Ok((analysis, timings))
@@ -335,6 +342,12 @@ fn name_file(e: Error, path: &Path) -> Error {
 }
 
 /// The tempo that covers the most time.
+/// The weighted mean of `(value, weight)` pairs (`None` when there are none).
+fn weighted_mean(values: &[(f64, f64)]) -> Option<f32> {
+    let total: f64 = values.iter().map(|(_, w)| w).sum();
+    (total > 0.0).then(|| (values.iter().map(|(v, w)| v * w).sum::<f64>() / total) as f32)
+}
+
 fn weighted_median(tempi: &mut Vec<(f64, f64)>) -> f64 {
     tempi.retain(|(t, _)| t.is_finite());
     tempi.sort_by(|a, b| a.0.total_cmp(&b.0));

@@ -91,7 +91,9 @@ impl Pipeline {
             beats_s: score.beats_s.clone(),
             downbeats_s: score.downbeats_s.clone(),
             tempo_bpm: score.tempo_bpm,
+            tempo_bpm_per_beat: performance::tempo_per_beat(&score.beats_s),
             meter: Some(score.meter),
+            beat_confidence: Some(1.0),
             arousal: ArousalCurve::deam(arousal_proxy_of_spans(&spans, score.duration_s)),
         }
     }

@@ -5,6 +5,7 @@
 use std::path::Path;
 use std::sync::{Arc, OnceLock};
 
+use beat_net::BeatActivation;
 use bowing_net::BowingModel;
 use emotion_net::ArousalEstimator;
 
@@ -24,6 +25,7 @@ fn get<T>(slot: &Slot<T>, load: impl FnOnce() -> Result<Arc<T>>) -> Result<Arc<T
 #[derive(Default)]
 pub(crate) struct LoadedModels {
     bowing: Slot<BowingModel>,
+    beat: Slot<BeatActivation>,
     emotion: Slot<ArousalEstimator>,
     #[cfg(feature = "gru")]
     gru: Slot<gru_baseline::GruBaseline>,
@@ -50,6 +52,11 @@ impl LoadedModels {
             Some(p) => networks::load_bowing(p),
             None => networks::pretrained_bowing(network),
         })
+    }
+
+    /// The beat/downbeat activation network (the embedded default).
+    pub(crate) fn beat(&self) -> Result<Arc<BeatActivation>> {
+        get(&self.beat, networks::pretrained_beat)
     }
 
     /// The arousal estimator: from `path`, or the embedded default.

@@ -5,6 +5,7 @@
 use std::path::Path;
 use std::sync::{Arc, OnceLock};
 
+use beat_net::{Activations, BeatActivation};
 use bowing_net::stroke::StrokeAnalysis;
 use bowing_net::BowingModel;
 use dsp_mel::Audio;
@@ -47,6 +48,7 @@ pub enum BowingNetwork {
 static ENSEMBLE: OnceLock<std::result::Result<Arc<BowingModel>, String>> = OnceLock::new();
 static STROKES: OnceLock<std::result::Result<Arc<BowingModel>, String>> = OnceLock::new();
 static CNN: OnceLock<std::result::Result<Arc<BowingModel>, String>> = OnceLock::new();
+static BEAT: OnceLock<std::result::Result<Arc<BeatActivation>, String>> = OnceLock::new();
 static EMOTION: OnceLock<std::result::Result<Arc<ArousalEstimator>, String>> = OnceLock::new();
 #[cfg(feature = "gru")]
 static GRU: OnceLock<std::result::Result<Arc<GruBaseline>, String>> = OnceLock::new();
@@ -61,6 +63,17 @@ pub fn pretrained_bowing(network: BowingNetwork) -> Result<Arc<BowingModel>> {
     slot.get_or_init(|| load().map(Arc::new).map_err(|e| e.to_string()))
         .clone()
         .map_err(|e| net_err("embedded bowing-net weights", e))
+}
+
+/// The embedded beat/downbeat activation network (loaded once).
+pub fn pretrained_beat() -> Result<Arc<BeatActivation>> {
+    BEAT.get_or_init(|| {
+        BeatActivation::pretrained()
+            .map(Arc::new)
+            .map_err(|e| e.to_string())
+    })
+    .clone()
+    .map_err(|e| net_err("embedded beat-net weights", e))
 }
 
 /// The embedded arousal estimator (loaded once).
@@ -109,11 +122,25 @@ pub fn load_gru(path: &Path) -> Result<Arc<GruBaseline>> {
         .map_err(|e| load_err(path, e))
 }
 
-/// Bow changes (seconds) and, from the stroke network, strokes in `audio` (analysis rate).
-pub fn bowing(model: &BowingModel, audio: &Audio) -> Result<StrokeAnalysis> {
+/// The 30 fps × 128 mel dB spectrogram both frame networks read, of `audio` (analysis rate).
+pub fn mel30(audio: &Audio) -> Result<ndarray::Array2<f32>> {
+    bowing_net::features::bowing_mel(audio).map_err(|e| net_err("mel spectrogram", e))
+}
+
+/// Bow changes, played stretches and strings from the 30 fps mel ([`mel30`]).
+pub fn bowing_of_mel(model: &BowingModel, mel: ndarray::ArrayView2<f32>) -> Result<StrokeAnalysis> {
     model
-        .analyze_audio(audio)
+        .analyze_mel(mel)
         .map_err(|e| net_err("bow-change detection", e))
+}
+
+/// Beat and downbeat activations (30 fps) from the 30 fps mel ([`mel30`]).
+pub fn beat_activations(
+    net: &BeatActivation,
+    mel: ndarray::ArrayView2<f32>,
+) -> Result<Activations> {
+    net.activations(mel)
+        .map_err(|e| net_err("beat activation", e))
 }
 
 /// Arousal at 2 Hz for `audio`, one value per half second of `duration_s`.

@@ -13,11 +13,13 @@ use pitch_track::{
 };
 use skeleton::Motion;
 
+use crate::beats::{self, BeatMethod};
 use crate::chunking::Chunking;
 use crate::error::{Error, Result};
 use crate::fingering_plan::{plan_notes, PlannerKind, SulSpan};
 use crate::models::LoadedModels;
 use crate::networks::{self, BowingNetwork};
+pub use crate::timings::StageTimings;
 
 /// How motion is made from the music.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -49,56 +51,6 @@ pub const BOW_CHANGE_SPLIT_MIN_PART_S: f64 = 0.06;
 /// SoundFont's (0.08 s: built-in −0.011, SoundFont +0.004 on the tuning set).
 pub const BOW_CHANGE_ONSET_LEAD_S: f64 = 0.06;
 
-/// Seconds spent in each stage of an analysis (summed over chunks for long files).
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct StageTimings {
-    /// Decoding the file (only [`Pipeline::analyze_file`] decodes).
-    pub decode_s: f64,
-    /// Resampling to the 22 050 Hz analysis rate.
-    pub resample_s: f64,
-    /// f0 tracking and note segmentation.
-    pub pitch_s: f64,
-    /// Onsets, tempo, beats, meter and downbeats.
-    pub beats_s: f64,
-    /// The bow-change CNN (including loading its weights the first time).
-    pub bowing_s: f64,
-    /// The arousal CRNN (including loading its weights the first time).
-    pub arousal_s: f64,
-}
-
-impl StageTimings {
-    /// Adds another chunk's timings.
-    pub fn add(&mut self, other: &StageTimings) {
-        self.decode_s += other.decode_s;
-        self.resample_s += other.resample_s;
-        self.pitch_s += other.pitch_s;
-        self.beats_s += other.beats_s;
-        self.bowing_s += other.bowing_s;
-        self.arousal_s += other.arousal_s;
-    }
-
-    /// The sum of all stages (more than the wall time: the score side and the networks run
-    /// at once).
-    pub fn total_s(&self) -> f64 {
-        self.decode_s
-            + self.resample_s
-            + self.pitch_s
-            + self.beats_s
-            + self.bowing_s
-            + self.arousal_s
-    }
-}
-
-impl std::fmt::Display for StageTimings {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(
-            f,
-            "decode {:.3} s, resample {:.3} s, pitch+notes {:.3} s, beats {:.3} s, bowing-net {:.3} s, emotion-net {:.3} s",
-            self.decode_s, self.resample_s, self.pitch_s, self.beats_s, self.bowing_s, self.arousal_s
-        )
-    }
-}
-
 /// The whole product behind one value. Build it with [`Pipeline::builder`] or use
 /// [`Pipeline::default`] (Method 2, optimal fingering, embedded models, default camera).
 ///
@@ -122,6 +74,7 @@ pub struct Pipeline {
     emotion_weights: Option<PathBuf>,
     gru_weights: Option<PathBuf>,
     chunking: Chunking,
+    beat_method: BeatMethod,
     models: Arc<LoadedModels>,
 }
 
@@ -207,6 +160,12 @@ impl PipelineBuilder {
         self
     }
 
+    /// The beat tracker of the audio analysis (default: learned).
+    pub fn beat_method(mut self, method: BeatMethod) -> Self {
+        self.inner.beat_method = method;
+        self
+    }
+
     /// How files longer than three minutes are cut for [`Pipeline::analyze_file`].
     pub fn chunking(mut self, chunking: Chunking) -> Self {
         self.inner.chunking = chunking;
@@ -280,29 +239,40 @@ impl Pipeline {
         };
         let network_side = || -> Result<_> {
             let clock = Instant::now();
+            // One 30 fps mel for the two frame networks.
+            let mel = networks::mel30(&analysed)?;
             let bowing = self
                 .models
                 .bowing(self.bowing_weights.as_deref(), self.bowing_network)?;
-            let bowed = networks::bowing(&bowing, &analysed)?;
+            let bowed = networks::bowing_of_mel(&bowing, mel.view())?;
+            let activations = match self.beat_method {
+                BeatMethod::Learned => Some(networks::beat_activations(
+                    &*self.models.beat()?,
+                    mel.view(),
+                )?),
+                BeatMethod::Classic => None,
+            };
             let bowing_s = clock.elapsed().as_secs_f64();
             let clock = Instant::now();
             let emotion = self.models.emotion(self.emotion_weights.as_deref())?;
             let arousal = networks::arousal(&emotion, &analysed, audio.duration_s())?;
-            Ok((bowed, arousal, bowing_s, clock.elapsed().as_secs_f64()))
+            Ok((
+                bowed,
+                activations,
+                arousal,
+                bowing_s,
+                clock.elapsed().as_secs_f64(),
+            ))
         };
         let (score, nets) = rayon::join(score_side, network_side);
         let (track, notes, pitch_s) = score?;
-        let (bowed, arousal, bowing_s, arousal_s) = nets?;
+        let (bowed, activations, arousal, bowing_s, arousal_s) = nets?;
         let bow_changes_s = bowed.bow_changes_s.clone();
-        // Bars tend to start with a new bow: bow changes are metre evidence.
         let clock = Instant::now();
-        let beats = beat_track::BeatTracker::new(beat_track::BeatConfig::default())?.track_with(
-            samples,
-            beat_track::BarEvidence {
-                notes: Some(&notes),
-                bow_changes_s: Some(&bow_changes_s),
-            },
-        )?;
+        let beats = match &activations {
+            Some(act) => beats::learned(act, &notes)?,
+            None => beats::classic(samples, &notes, &bow_changes_s)?,
+        };
         let beats_s = clock.elapsed().as_secs_f64();
         timings.pitch_s = pitch_s;
         timings.beats_s = beats_s;
@@ -326,6 +296,7 @@ impl Pipeline {
             &bow_directions,
             &analyzed_notes,
         );
+        let tempo_bpm_per_beat = performance::tempo_per_beat(&beats.beats_s);
         let analysis = Analysis {
             schema_version: performance::ANALYSIS_SCHEMA_VERSION,
             source: "audio".into(),
@@ -338,8 +309,10 @@ impl Pipeline {
             bow_strokes,
             beats_s: beats.beats_s,
             downbeats_s: beats.downbeats_s,
+            tempo_bpm_per_beat,
             tempo_bpm: beats.tempo_bpm,
-            meter: Some(beats.meter),
+            meter: beats.meter,
+            beat_confidence: beats.confidence,
             arousal: ArousalCurve::deam(arousal),
         };
         Ok((analysis, timings))

@@ -33,6 +33,7 @@ const LAYERS: &[(&str, u32)] = &[
     ("beat-track", 20),
     ("pose-preproc", 20),
     ("bowing-net", 20),
+    ("beat-net", 20),
     ("emotion-net", 20),
     ("gru-baseline", 20),
     ("motion-synth", 30),
@@ -43,7 +44,7 @@ const LAYERS: &[(&str, u32)] = &[
     ("violin-skeleton-cli", 52),
 ];
 
-const NETWORKS: &[&str] = &["bowing-net", "emotion-net", "gru-baseline"];
+const NETWORKS: &[&str] = &["bowing-net", "beat-net", "emotion-net", "gru-baseline"];
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))

@@ -15,6 +15,9 @@ pub enum BeatError {
     /// A configuration value is out of range.
     #[error("invalid beat-tracking configuration: {0}")]
     InvalidConfig(String),
+    /// Beat or downbeat activations are unusable (lengths differ, not probabilities).
+    #[error("invalid beat activations: {0}")]
+    InvalidActivation(String),
     /// The spectrogram computation failed.
     #[error(transparent)]
     Dsp(#[from] dsp_mel::DspError),

@@ -18,6 +18,9 @@
 //! * [`estimate_meter`] — beats per bar (2, 3, 4 or 6/8) and bar phase from accents and,
 //!   when given ([`BarEvidence`]), notes from `pitch-track` and bow changes (see [`meter`]).
 //! * [`BeatTracker`] — all of it in one call → [`BeatAnalysis`].
+//! * [`bar_pointer`] — beats, downbeats, metre and per-beat tempo decoded from learned
+//!   beat/downbeat activations (beat-net's) with a bar-pointer HMM, as madmom's
+//!   `DBNDownBeatTrackingProcessor`.
 //! * [`eval`] — beat/downbeat F-measure as mir_eval (the matcher is `performance`'s).
 //!
 //! ```
@@ -43,6 +46,8 @@
 //! (a dev-dependency; the library never uses it).
 
 mod bar_features;
+pub mod bar_pointer;
+mod bar_state;
 mod beat_config;
 mod dp;
 mod error;
@@ -53,6 +58,7 @@ mod meter_config;
 mod onset;
 mod peaks;
 mod spectrum;
+mod subdivision;
 mod tempo;
 mod tracker;
 
@@ -64,5 +70,6 @@ pub use level::{LevelCandidate, LevelConfig, LevelFeatures, LevelWeights, Tempog
 pub use meter::{estimate_meter, Meter, MeterConfig, MeterEstimate};
 pub use onset::{Aggregate, OnsetConfig, OnsetEnvelope, OnsetStrength};
 pub use peaks::{onset_detect, peak_pick, PeakPick};
+pub use subdivision::subdivisions;
 pub use tempo::{estimate_tempo, mean_tempogram, mean_tempogram_strided, TempoConfig};
 pub use tracker::BeatTracker;

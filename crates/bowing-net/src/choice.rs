@@ -5,6 +5,7 @@
 
 use std::path::Path;
 
+use ndarray::ArrayView2;
 use net_core::file;
 
 use crate::detector::{BowChangeDetector, FORMAT_NAME};
@@ -86,16 +87,20 @@ impl BowingModel {
     /// Bow changes (and, for the stroke network, played stretches and strings) of a
     /// recording.
     pub fn analyze_audio(&self, audio: &dsp_mel::Audio) -> Result<StrokeAnalysis> {
+        self.analyze_mel(bowing_mel(audio)?.view())
+    }
+
+    /// [`BowingModel::analyze_audio`] of a 30 fps × 128 mel dB spectrogram
+    /// ([`crate::features::bowing_mel`]).
+    pub fn analyze_mel(&self, mel: ArrayView2<f32>) -> Result<StrokeAnalysis> {
         match self {
-            Self::Strokes(d) => d.analyze_audio(audio),
+            Self::Strokes(d) => d.analyze_mel(mel),
             Self::Ensemble(cnn, strokes) => {
-                let mel = bowing_mel(audio)?;
-                let probs = cnn.frame_probabilities(mel.view())?;
-                strokes.analyze_mel_with(mel.view(), Some(&probs))
+                let probs = cnn.frame_probabilities(mel)?;
+                strokes.analyze_mel_with(mel, Some(&probs))
             }
             Self::Cnn(d) => {
-                let mel = bowing_mel(audio)?;
-                let probs = d.frame_probabilities(mel.view())?;
+                let probs = d.frame_probabilities(mel)?;
                 Ok(StrokeAnalysis {
                     bow_changes_s: d
                         .decoder()

@@ -164,6 +164,20 @@ pub struct AnalysisWeights {
     /// Arousal CRNN weights from `train emotion` (default: embedded).
     #[arg(long)]
     pub emotion_weights: Option<PathBuf>,
+    /// Beat tracker: `learned` (beat-net activation + bar-pointer decoding) or `classic`
+    /// (onset tempogram + dynamic programming, the tracker before issue 20).
+    #[arg(long, value_enum, default_value_t = BeatArg::Learned)]
+    pub beats: BeatArg,
+}
+
+/// The `--beats` choice.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+pub enum BeatArg {
+    /// beat-net + bar-pointer decoding.
+    #[default]
+    Learned,
+    /// The classic onset/DP tracker.
+    Classic,
 }
 
 /// `--bowing-net`.
@@ -203,7 +217,10 @@ impl AnalysisWeights {
         if let Some(p) = &self.emotion_weights {
             builder = builder.emotion_weights(p);
         }
-        builder
+        builder.beat_method(match self.beats {
+            BeatArg::Learned => violin_skeleton::BeatMethod::Learned,
+            BeatArg::Classic => violin_skeleton::BeatMethod::Classic,
+        })
     }
 }
 

@@ -80,7 +80,10 @@ fn synthetic_violin_gives_the_schema() {
     assert!(!strokes.is_empty());
     for s in strokes {
         assert!((1..=4).contains(&s["string"].as_u64().unwrap()), "{s}");
-        assert!(["down", "up"].contains(&s["direction"].as_str().unwrap()), "{s}");
+        assert!(
+            ["down", "up"].contains(&s["direction"].as_str().unwrap()),
+            "{s}"
+        );
     }
     let beats = a["beats_s"].as_array().unwrap();
     assert!(beats.len() >= 20, "{} beats", beats.len());
@@ -176,8 +179,7 @@ fn weight_flags_load_the_given_files() {
         std::fs::copy(weights_dir.join(file), &weights).unwrap();
         let st = analyze(&wav, &out, &["--quiet", "--bowing-net", net]);
         assert!(st.status.success());
-        let chosen: Value =
-            serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+        let chosen: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
         w = weights.to_str().unwrap().to_string();
         let st = analyze(&wav, &out, &["--quiet", "--bowing-weights", &w]);
         assert!(

@@ -86,7 +86,10 @@ fn a_midi_file_gives_the_analysis_schema() {
     let strokes = v["bow_strokes"].as_array().unwrap();
     assert_eq!(strokes.len(), v["bow_changes_s"].as_array().unwrap().len());
     for s in strokes {
-        assert!(["down", "up"].contains(&s["direction"].as_str().unwrap()), "{s}");
+        assert!(
+            ["down", "up"].contains(&s["direction"].as_str().unwrap()),
+            "{s}"
+        );
         assert!((1..=4).contains(&s["string"].as_u64().unwrap()), "{s}");
         assert!(s["end_s"].as_f64().unwrap() >= s["start_s"].as_f64().unwrap());
     }

@@ -10,8 +10,9 @@ use crate::note::Note;
 use crate::stroke::BowStroke;
 
 /// The `analysis.json` schema version this crate writes: 2 added `schema_version`,
-/// `source`, `meter`, `bow_directions` and the notes' `velocity`; 3 added `bow_strokes`
-/// (files without `schema_version` are version 1 and still read).
+/// `source`, `meter`, `bow_directions` and the notes' `velocity`; 3 added `bow_strokes`,
+/// `tempo_bpm_per_beat` and `beat_confidence` (files without `schema_version` are version 1
+/// and still read).
 pub const ANALYSIS_SCHEMA_VERSION: u32 = 3;
 
 fn version_1() -> u32 {
@@ -70,6 +71,50 @@ pub struct Analysis {
     /// Beats per bar and subdivisions, when known.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub meter: Option<Meter>,
+    /// Tempo in bpm at every beat of `beats_s` (one value per beat; empty in files before
+    /// version 3). See [`tempo_per_beat`].
+    #[serde(default)]
+    pub tempo_bpm_per_beat: Vec<f64>,
+    /// How strongly the recording supports the beats, 0–1 (near 0 for silence or noise,
+    /// 1 for MIDI input); absent in files before version 3.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub beat_confidence: Option<f32>,
     /// Arousal at 2 Hz.
     pub arousal: ArousalCurve,
+}
+
+/// Tempo (bpm) at every beat: 60 over the mean of the intervals to its neighbours, leaving
+/// out intervals longer than twice the median interval (gaps); a beat with no usable
+/// neighbour takes the median tempo.
+///
+/// ```
+/// let t = performance::tempo_per_beat(&[0.0, 0.5, 1.0, 1.6, 10.0]);
+/// assert_eq!(t.len(), 5);
+/// assert!((t[1] - 120.0).abs() < 1e-9 && (t[4] - 120.0).abs() < 1.0);
+/// ```
+pub fn tempo_per_beat(beats_s: &[f64]) -> Vec<f64> {
+    let ibis: Vec<f64> = beats_s.windows(2).map(|w| w[1] - w[0]).collect();
+    let mut sorted: Vec<f64> = ibis.iter().copied().filter(|d| *d > 0.0).collect();
+    if sorted.is_empty() {
+        return vec![0.0; beats_s.len()];
+    }
+    sorted.sort_by(f64::total_cmp);
+    let median = sorted[sorted.len() / 2];
+    let usable = |d: f64| d > 0.0 && d <= 2.0 * median;
+    (0..beats_s.len())
+        .map(|i| {
+            let near: Vec<f64> = [i.checked_sub(1), (i < ibis.len()).then_some(i)]
+                .into_iter()
+                .flatten()
+                .map(|k| ibis[k])
+                .filter(|d| usable(*d))
+                .collect();
+            let d = if near.is_empty() {
+                median
+            } else {
+                near.iter().sum::<f64>() / near.len() as f64
+            };
+            60.0 / d
+        })
+        .collect()
 }

@@ -31,7 +31,7 @@ fn main() {
             let audio = corpus::layout::item_audio(&item_dir);
             let r = violin_train::feature_cache::cached_mel30(&item_dir, &audio);
             let n = done.fetch_add(1, Ordering::Relaxed) + 1;
-            if n % 50 == 0 || n == total {
+            if n.is_multiple_of(50) || n == total {
                 eprintln!(
                     "{n}/{total} items, {:.0} s",
                     started.elapsed().as_secs_f64()

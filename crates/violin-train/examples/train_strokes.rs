@@ -229,7 +229,7 @@ fn extra_scores(
 ) -> Result<(), Box<dyn std::error::Error>> {
     use performance::{bow_directions, strokes_of, Note};
     let dir = corpus.join(&r.name);
-    let audio = dsp_mel::load_audio(&corpus::layout::item_audio(&dir))?;
+    let audio = dsp_mel::load_audio(corpus::layout::item_audio(&dir))?;
     let analysis = pipeline.analyze(&audio)?;
     let found = strokes.analyze_mel(r.mel_db.view())?;
     // Notes that only say when something sounds: the played stretches cut at the changes.

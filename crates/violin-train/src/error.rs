@@ -17,6 +17,9 @@ pub enum TrainError {
     /// The bow-change network or its data.
     #[error(transparent)]
     Bowing(#[from] bowing_net::NetError),
+    /// The beat network or its data.
+    #[error(transparent)]
+    BeatNet(#[from] beat_net::BeatNetError),
     /// The arousal network or its data.
     #[error(transparent)]
     Emotion(#[from] emotion_net::EmotionError),

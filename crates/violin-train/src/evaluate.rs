@@ -19,6 +19,8 @@ use violin_skeleton::{Method, Pipeline};
 const BOW_TOLERANCE_2F_S: f64 = 2.0 / 30.0 + 1e-6;
 /// ±3 frames, the bowing-net issue's second tolerance.
 const BOW_TOLERANCE_3F_S: f64 = 3.0 / 30.0 + 1e-6;
+/// A tempo within this fraction of the notated one is correct (issue 20).
+const TEMPO_TOLERANCE: f64 = 0.08;
 /// Events this close to the start are ignored for bow changes: the first stroke's start is
 /// not a change of direction.
 const START_GUARD_S: f64 = 0.1;
@@ -55,6 +57,9 @@ pub fn evaluate_recording(pipeline: &Pipeline, rec: &LabelledRecording) -> Resul
         onsets: None,
         beats: None,
         downbeats: None,
+        meter_correct: None,
+        tempo_correct: None,
+        tempo_octave_error: None,
         skeleton_l1_px: None,
         right_wrist_l1_px: None,
         skeleton_l1_shoulders: None,
@@ -113,6 +118,14 @@ pub fn evaluate_recording(pipeline: &Pipeline, rec: &LabelledRecording) -> Resul
         }
         if let Some(b) = &refs.downbeats_s {
             s.downbeats = Some(EventCounts::of(&trimmed(b), &trimmed(&a.downbeats_s), 0.07));
+        }
+        if let Some(bar) = refs.beats_per_bar {
+            s.meter_correct = Some(a.meter.map(|m| m.beats_per_bar) == Some(bar));
+        }
+        if let Some(tempo) = refs.tempo_bpm {
+            let near = |target: f64| (a.tempo_bpm / target - 1.0).abs() <= TEMPO_TOLERANCE;
+            s.tempo_correct = Some(near(tempo));
+            s.tempo_octave_error = Some(near(2.0 * tempo) || near(0.5 * tempo));
         }
     }
     if let Some(truth) = &refs.motion {

@@ -3,7 +3,7 @@
 //! Everything that trains or measures violin-skeleton's networks and is not needed to run
 //! them (a tool crate, `publish = false`):
 //!
-//! * [`bowing_data`], [`emotion_data`], [`gru_data`]: the networks' labelled data read from
+//! * [`bowing_data`], [`beat_data`], [`emotion_data`], [`gru_data`]: the networks' labelled data read from
 //!   disk — the synthetic corpus (`violin-skeleton corpus`), URMP with OpenPose skeletons
 //!   (labels through `pose-preproc`) and DEAM — into the in-memory types the nets' `train`
 //!   feature trains on;
@@ -27,6 +27,7 @@
 //! # Ok::<(), violin_train::TrainError>(())
 //! ```
 
+pub mod beat_data;
 pub mod bowing_data;
 pub mod emotion_data;
 mod error;

@@ -90,6 +90,15 @@ pub struct RecordingScores {
     pub beats: Option<EventCounts>,
     /// Downbeats at ±70 ms (the first 5 s ignored).
     pub downbeats: Option<EventCounts>,
+    /// Whether the beats per bar found are the notated ones.
+    #[serde(default)]
+    pub meter_correct: Option<bool>,
+    /// Whether the tempo found is within 8 % of the notated beat's tempo.
+    #[serde(default)]
+    pub tempo_correct: Option<bool>,
+    /// Whether the tempo found is within 8 % of twice or half the notated tempo.
+    #[serde(default)]
+    pub tempo_octave_error: Option<bool>,
     /// Mean absolute joint error to the reference skeleton in pixels (same camera), when
     /// the reference shares the image space (corpus).
     pub skeleton_l1_px: Option<f64>,
@@ -142,6 +151,15 @@ pub struct ScoreSummary {
     pub beat_f: Option<f64>,
     /// Downbeat F-measure (±70 ms).
     pub downbeat_f: Option<f64>,
+    /// Share of recordings with the notated beats per bar.
+    #[serde(default)]
+    pub meter_accuracy: Option<f64>,
+    /// Share of recordings with the tempo within 8 % of the notated level.
+    #[serde(default)]
+    pub tempo_accuracy: Option<f64>,
+    /// Share of recordings with the tempo at twice or half the notated level (±8 %).
+    #[serde(default)]
+    pub tempo_octave_errors: Option<f64>,
     /// Skeleton L1 in pixels.
     pub skeleton_l1_px: Option<f64>,
     /// Right-wrist L1 in pixels.
@@ -171,6 +189,13 @@ fn pooled_counts(
         total.get_or_insert_with(EventCounts::default).add(&c);
     }
     total
+}
+
+/// The share of `rows` for which `get` says yes, among those where it says anything.
+fn share(rows: &[&RecordingScores], get: impl Fn(&RecordingScores) -> Option<bool>) -> Option<f64> {
+    let answers: Vec<bool> = rows.iter().filter_map(|r| get(r)).collect();
+    (!answers.is_empty())
+        .then(|| answers.iter().filter(|a| **a).count() as f64 / answers.len() as f64)
 }
 
 fn weighted_mean(
@@ -206,6 +231,9 @@ impl ScoreSummary {
             onset_f1: pooled_counts(rows, |r| r.onsets).map(|c| c.f1()),
             beat_f: pooled_counts(rows, |r| r.beats).map(|c| c.f1()),
             downbeat_f: pooled_counts(rows, |r| r.downbeats).map(|c| c.f1()),
+            meter_accuracy: share(rows, |r| r.meter_correct),
+            tempo_accuracy: share(rows, |r| r.tempo_correct),
+            tempo_octave_errors: share(rows, |r| r.tempo_octave_error),
             skeleton_l1_px: weighted_mean(rows, |r| r.skeleton_l1_px),
             right_wrist_l1_px: weighted_mean(rows, |r| r.right_wrist_l1_px),
             skeleton_l1_shoulders: weighted_mean(rows, |r| r.skeleton_l1_shoulders),
@@ -287,7 +315,7 @@ impl EvaluationReport {
             fn(&ScoreSummary) -> Option<f64>,
             Option<usize>,
         );
-        let rows: [Row; 19] = [
+        let rows: [Row; 22] = [
             ("recordings", |s| Some(s.recordings as f64), Some(0)),
             ("minutes", |s| Some(s.duration_s / 60.0), Some(1)),
             ("bow-change P ±2 fr", |s| s.bow_change_precision, Some(3)),
@@ -298,6 +326,9 @@ impl EvaluationReport {
             ("note-onset F1 ±50 ms", |s| s.onset_f1, Some(3)),
             ("beat F ±70 ms", |s| s.beat_f, Some(3)),
             ("downbeat F ±70 ms", |s| s.downbeat_f, Some(3)),
+            ("meter correct", |s| s.meter_accuracy, Some(3)),
+            ("tempo within 8 %", |s| s.tempo_accuracy, Some(3)),
+            ("tempo ×2 or ×½", |s| s.tempo_octave_errors, Some(3)),
             ("skeleton L1 px", |s| s.skeleton_l1_px, Some(1)),
             ("right-wrist L1 px", |s| s.right_wrist_l1_px, Some(1)),
             (

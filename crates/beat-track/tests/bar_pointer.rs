@@ -1,0 +1,170 @@
+//! The bar-pointer decoder on synthetic activations: steady tempo, ritardando, 3/4 against
+//! 4/4, compound and one-beat bars, and the bad inputs (silence, a single spike, 2 s,
+//! noise, a long silent gap, malformed activations).
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use beat_track::bar_pointer::{decode, BarPointerConfig};
+use beat_track::eval::beat_prf;
+
+const FPS: f64 = 30.0;
+
+/// Activations with a peak at every beat (`bar` beats per bar, the first a downbeat) over
+/// `frames` frames.
+fn activations(beats_s: &[f64], bar: usize, frames: usize) -> (Vec<f32>, Vec<f32>) {
+    let mut beat = vec![0.02f32; frames];
+    let mut down = vec![0.01f32; frames];
+    for (i, &t) in beats_s.iter().enumerate() {
+        let f = (t * FPS).round() as usize;
+        if f >= frames {
+            continue;
+        }
+        let target = if i % bar == 0 { &mut down } else { &mut beat };
+        target[f] = 0.85;
+        if f > 0 {
+            target[f - 1] = target[f - 1].max(0.3);
+        }
+        if f + 1 < frames {
+            target[f + 1] = target[f + 1].max(0.3);
+        }
+    }
+    (beat, down)
+}
+
+fn steady(bpm: f64, from_s: f64, to_s: f64) -> Vec<f64> {
+    let step = 60.0 / bpm;
+    (0..)
+        .map(|k| from_s + k as f64 * step)
+        .take_while(|&t| t < to_s)
+        .collect()
+}
+
+fn downbeats(beats: &[f64], bar: usize) -> Vec<f64> {
+    beats.iter().step_by(bar).copied().collect()
+}
+
+#[test]
+fn steady_tempo_in_four_four() {
+    let beats = steady(100.0, 0.5, 60.0);
+    let (b, d) = activations(&beats, 4, 1800);
+    let out = decode(&b, &d, &BarPointerConfig::default()).unwrap();
+    assert_eq!(out.beats_per_bar, 4);
+    assert!(beat_prf(&beats, &out.beats_s, 0.07).f_measure > 0.97);
+    let f = beat_prf(&downbeats(&beats, 4), &out.downbeats_s, 0.07).f_measure;
+    assert!(f > 0.95, "{f}");
+    assert!((out.tempo_bpm - 100.0).abs() < 2.0, "{}", out.tempo_bpm);
+    assert_eq!(out.tempo_bpm_per_beat.len(), out.beats_s.len());
+    assert!(out.confidence > 0.7);
+}
+
+#[test]
+fn ritardando_is_followed() {
+    // Intervals grow from 0.45 s to 0.9 s over 40 beats.
+    let mut beats = vec![1.0];
+    for k in 0..40 {
+        let last = beats[beats.len() - 1];
+        beats.push(last + 0.45 + 0.45 * f64::from(k) / 39.0);
+    }
+    let frames = ((beats[beats.len() - 1] + 1.0) * FPS) as usize;
+    let (b, d) = activations(&beats, 3, frames);
+    let out = decode(&b, &d, &BarPointerConfig::default()).unwrap();
+    let f = beat_prf(&beats, &out.beats_s, 0.07).f_measure;
+    assert!(f > 0.9, "{f}");
+    let first = out.tempo_bpm_per_beat[2];
+    let last = out.tempo_bpm_per_beat[out.tempo_bpm_per_beat.len() - 2];
+    assert!(first > 110.0 && last < 75.0, "{first} → {last}");
+}
+
+#[test]
+fn three_four_and_four_four_are_told_apart() {
+    for bar in [3, 4, 2] {
+        let beats = steady(90.0, 0.3, 45.0);
+        let (b, d) = activations(&beats, bar, 1350);
+        let out = decode(&b, &d, &BarPointerConfig::default()).unwrap();
+        assert_eq!(out.beats_per_bar, bar);
+        let f = beat_prf(&downbeats(&beats, bar), &out.downbeats_s, 0.07).f_measure;
+        assert!(f > 0.95, "{bar}: {f}");
+    }
+}
+
+#[test]
+fn compound_and_one_beat_bars() {
+    // 6/8 at 60 dotted-quarter beats per minute: two beats per bar, slow beats.
+    let beats = steady(60.0, 0.2, 60.0);
+    let (b, d) = activations(&beats, 2, 1800);
+    let out = decode(&b, &d, &BarPointerConfig::default()).unwrap();
+    assert_eq!(out.beats_per_bar, 2);
+    assert!((out.tempo_bpm - 60.0).abs() < 2.0, "{}", out.tempo_bpm);
+    // 3/8: every beat is a downbeat.
+    let beats = steady(70.0, 0.2, 40.0);
+    let (b, d) = activations(&beats, 1, 1200);
+    let out = decode(&b, &d, &BarPointerConfig::default()).unwrap();
+    assert_eq!(out.beats_per_bar, 1);
+    assert_eq!(out.downbeats_s.len(), out.beats_s.len());
+}
+
+#[test]
+fn silence_noise_and_a_single_spike_give_no_beats() {
+    let cfg = BarPointerConfig::default();
+    let out = decode(&vec![0.0; 1800], &vec![0.0; 1800], &cfg).unwrap();
+    assert!(out.beats_s.is_empty() && out.confidence == 0.0 && out.tempo_bpm == 0.0);
+    let mut spike = vec![0.0f32; 1800];
+    spike[900] = 0.95;
+    let out = decode(&spike, &vec![0.0; 1800], &cfg).unwrap();
+    assert!(out.beats_s.len() <= 3, "{:?}", out.beats_s);
+    assert!(out.confidence < 0.1);
+    // Noise: a seeded sequence of small activations.
+    let mut x = 12345u64;
+    let mut noise = || {
+        x = x
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((x >> 40) as f32 / (1u64 << 24) as f32) * 0.08
+    };
+    let (b, d): (Vec<f32>, Vec<f32>) = (0..1800).map(|_| (noise(), noise() * 0.5)).unzip();
+    let out = decode(&b, &d, &cfg).unwrap();
+    assert!(out.beats_s.is_empty(), "{}", out.beats_s.len());
+    assert!(out.confidence < 0.1);
+}
+
+#[test]
+fn short_inputs_and_a_long_gap() {
+    let cfg = BarPointerConfig::default();
+    // 2 s.
+    let beats = steady(120.0, 0.1, 2.0);
+    let (b, d) = activations(&beats, 4, 60);
+    let out = decode(&b, &d, &cfg).unwrap();
+    assert!(out.beats_s.len() <= 5);
+    for n in [0, 1, 2] {
+        decode(&vec![0.5; n], &vec![0.1; n], &cfg).unwrap();
+    }
+    // Beats for 20 s, 30 s of silence, 20 s of beats.
+    let mut beats = steady(100.0, 0.5, 20.0);
+    beats.extend(steady(100.0, 50.0, 70.0));
+    let (b, d) = activations(&beats, 4, 2100);
+    let mut d = d;
+    let mut b = b;
+    for f in 20 * 30..50 * 30 {
+        b[f] = 0.0;
+        d[f] = 0.0;
+    }
+    let out = decode(&b, &d, &cfg).unwrap();
+    assert!(
+        !out.beats_s.iter().any(|&t| (22.0..48.0).contains(&t)),
+        "{:?}",
+        out.beats_s
+    );
+    assert!(beat_prf(&beats, &out.beats_s, 0.07).f_measure > 0.9);
+}
+
+#[test]
+fn malformed_activations_are_refused() {
+    let cfg = BarPointerConfig::default();
+    assert!(decode(&[0.1, 0.2], &[0.1], &cfg).is_err());
+    assert!(decode(&[0.1, f32::NAN], &[0.1, 0.1], &cfg).is_err());
+    assert!(decode(&[0.1, 1.5], &[0.1, 0.1], &cfg).is_err());
+    let bad = BarPointerConfig {
+        beats_per_bar: vec![],
+        ..Default::default()
+    };
+    assert!(decode(&[0.1; 10], &[0.1; 10], &bad).is_err());
+}

@@ -1,0 +1,87 @@
+//! Chooses the bar-pointer decoder's settings for beat-net's activations on a corpus's
+//! **validation** split only (the test sets are never read): beat and downbeat F (±70 ms,
+//! first 5 s ignored), metre and tempo (±8 %) accuracy for a small grid of
+//! `transition_lambda` × `observation_lambda`.
+//!
+//! `cargo run --release -p violin-train --example tune_beats -- /work/data/corpus-10h [WEIGHTS]`
+
+use std::path::PathBuf;
+
+use beat_net::BeatActivation;
+use beat_track::bar_pointer::{decode, BarPointerConfig};
+use beat_track::eval::{beat_prf, trim_beats};
+use corpus::manifest::Split;
+use violin_train::beat_data::read_first_column;
+use violin_train::bowing_data::read_manifest;
+use violin_train::feature_cache::cached_mel30;
+
+struct Item {
+    act: beat_net::Activations,
+    beats: Vec<f64>,
+    downbeats: Vec<f64>,
+    bar: Option<u64>,
+    tempo: Option<f64>,
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let mut args = std::env::args().skip(1);
+    let dir: PathBuf = args
+        .next()
+        .ok_or("usage: tune_beats CORPUS_DIR [WEIGHTS]")?
+        .into();
+    let net = match args.next() {
+        Some(p) => BeatActivation::load(&PathBuf::from(p))?,
+        None => BeatActivation::pretrained()?,
+    };
+    let manifest = read_manifest(&dir)?;
+    let mut items = Vec::new();
+    for it in manifest.items.iter().filter(|it| it.split == Split::Val) {
+        let d = dir.join(&it.dir);
+        let mel = cached_mel30(&d, &corpus::layout::item_audio(&d))?;
+        let labels: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(d.join("labels.json"))?)?;
+        items.push(Item {
+            act: net.activations(mel.view())?,
+            beats: read_first_column(&d.join("beats.txt"))?,
+            downbeats: read_first_column(&d.join("downbeats.txt"))?,
+            bar: labels["beats_per_bar"].as_u64(),
+            tempo: labels["tempo_bpm"].as_f64(),
+        });
+    }
+    println!("{} validation items", items.len());
+    println!("lambda_t lambda_o   beat_F  down_F  meter  tempo  octave");
+    for transition_lambda in [30.0, 60.0, 100.0] {
+        for observation_lambda in [4.0, 6.0, 8.0, 16.0] {
+            let cfg = BarPointerConfig {
+                transition_lambda,
+                observation_lambda,
+                ..Default::default()
+            };
+            let (mut bf, mut df, mut meter, mut tempo, mut octave) = (0.0, 0.0, 0, 0, 0);
+            for it in &items {
+                let out = decode(&it.act.beat, &it.act.downbeat, &cfg)?;
+                let tr = |v: &[f64]| trim_beats(v, 5.0);
+                bf += beat_prf(&tr(&it.beats), &tr(&out.beats_s), 0.07).f_measure;
+                df += beat_prf(&tr(&it.downbeats), &tr(&out.downbeats_s), 0.07).f_measure;
+                meter += usize::from(
+                    it.bar == Some(out.beats_per_bar as u64) && !out.beats_s.is_empty(),
+                );
+                if let Some(t) = it.tempo {
+                    let near = |x: f64| (out.tempo_bpm / x - 1.0).abs() <= 0.08;
+                    tempo += usize::from(near(t));
+                    octave += usize::from(near(2.0 * t) || near(0.5 * t));
+                }
+            }
+            let n = items.len().max(1) as f64;
+            println!(
+                "{transition_lambda:>8} {observation_lambda:>8} {:>8.3} {:>7.3} {:>6.3} {:>6.3} {:>7.3}",
+                bf / n,
+                df / n,
+                meter as f64 / n,
+                tempo as f64 / n,
+                octave as f64 / n
+            );
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,107 @@
+//! beat-net's labelled recordings read from the corpus (`violin-skeleton corpus`): each
+//! item's cached 30 fps mel ([`crate::feature_cache`]) with `beats.txt` and `downbeats.txt`
+//! (seconds in the first column), by the manifest's split. Only `train` and `val` items are
+//! read; the test sets are never seen by training or tuning.
+
+use std::path::Path;
+
+use beat_net::data::{Recording, Splits};
+use corpus::manifest::Split;
+use rayon::prelude::*;
+
+use crate::bowing_data::read_manifest;
+use crate::error::{Result, TrainError};
+
+/// Times in seconds from the first column of a whitespace-separated file (blank lines
+/// skipped; a malformed or negative time is an error naming the line).
+pub fn read_first_column(path: &Path) -> Result<Vec<f64>> {
+    let bad = |reason: String| TrainError::Dataset {
+        path: path.to_path_buf(),
+        reason,
+    };
+    let text = std::fs::read_to_string(path).map_err(|e| bad(format!("cannot read ({e})")))?;
+    let mut out = Vec::new();
+    for (i, line) in text.lines().enumerate() {
+        let Some(first) = line.split_whitespace().next() else {
+            continue;
+        };
+        match first.parse::<f64>() {
+            Ok(v) if v.is_finite() && v >= 0.0 => out.push(v),
+            _ => {
+                return Err(bad(format!(
+                    "line {}: \"{first}\" is not a time in seconds",
+                    i + 1
+                )))
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// One corpus item folder as a [`Recording`].
+pub fn load_beat_item(dir: &Path, name: &str) -> Result<Recording> {
+    let mel = crate::feature_cache::cached_mel30(dir, &corpus::layout::item_audio(dir))?;
+    let beats_s = read_first_column(&dir.join("beats.txt"))?;
+    let downbeats_s = read_first_column(&dir.join("downbeats.txt"))?;
+    Recording::from_mel(name.to_string(), mel.view(), beats_s, downbeats_s).map_err(|e| {
+        TrainError::Dataset {
+            path: dir.to_path_buf(),
+            reason: e.to_string(),
+        }
+    })
+}
+
+/// The train and validation items of the corpus at `dir`; `progress(done, total)` as they
+/// load.
+pub fn load_beat_corpus(dir: &Path, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<Splits> {
+    let manifest = read_manifest(dir)?;
+    let wanted: Vec<_> = manifest
+        .items
+        .iter()
+        .filter(|it| matches!(it.split, Split::Train | Split::Val))
+        .collect();
+    let total = wanted.len();
+    let done = std::sync::atomic::AtomicUsize::new(0);
+    let loaded: Vec<Result<(Split, Recording)>> = wanted
+        .par_iter()
+        .map(|item| {
+            let rec = load_beat_item(&dir.join(&item.dir), &item.dir)?;
+            progress(
+                done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1,
+                total,
+            );
+            Ok((item.split, rec))
+        })
+        .collect();
+    let mut splits = Splits::default();
+    for r in loaded {
+        match r? {
+            (Split::Train, rec) => splits.train.push(rec),
+            (_, rec) => splits.val.push(rec),
+        }
+    }
+    if splits.train.is_empty() || splits.val.is_empty() {
+        return Err(TrainError::Dataset {
+            path: dir.to_path_buf(),
+            reason: "the corpus needs train and val items to train the beat network".into(),
+        });
+    }
+    Ok(splits)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn first_column_is_read_and_bad_lines_are_named() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("beats.txt");
+        std::fs::write(&p, "0.5 1\n\n1.25\t2\n").unwrap();
+        assert_eq!(read_first_column(&p).unwrap(), vec![0.5, 1.25]);
+        std::fs::write(&p, "0.5\nabc\n").unwrap();
+        let e = read_first_column(&p).unwrap_err().to_string();
+        assert!(e.contains("line 2"), "{e}");
+        assert!(read_first_column(&dir.path().join("missing.txt")).is_err());
+    }
+}
