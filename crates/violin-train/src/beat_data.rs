@@ -38,6 +38,21 @@ pub fn read_first_column(path: &Path) -> Result<Vec<f64>> {
     Ok(out)
 }
 
+/// Beats per bar and tempo (bpm) at the notated beat from a corpus item's `labels.json`,
+/// when it has them.
+pub fn notated_meter(item_dir: &Path) -> (Option<u8>, Option<f64>) {
+    let labels: Option<serde_json::Value> = std::fs::read_to_string(item_dir.join("labels.json"))
+        .ok()
+        .and_then(|t| serde_json::from_str(&t).ok());
+    let get = |key: &str| labels.as_ref().and_then(|l| l.get(key)?.as_f64());
+    (
+        get("beats_per_bar")
+            .filter(|b| (1.0..=255.0).contains(b))
+            .map(|b| b as u8),
+        get("tempo_bpm").filter(|t| *t > 0.0),
+    )
+}
+
 /// One corpus item folder as a [`Recording`].
 pub fn load_beat_item(dir: &Path, name: &str) -> Result<Recording> {
     let mel = crate::feature_cache::cached_mel30(dir, &corpus::layout::item_audio(dir))?;
@@ -103,5 +118,12 @@ mod tests {
         let e = read_first_column(&p).unwrap_err().to_string();
         assert!(e.contains("line 2"), "{e}");
         assert!(read_first_column(&dir.path().join("missing.txt")).is_err());
+        assert_eq!(notated_meter(dir.path()), (None, None));
+        std::fs::write(
+            dir.path().join("labels.json"),
+            r#"{"beats_per_bar": 3, "tempo_bpm": 90.5}"#,
+        )
+        .unwrap();
+        assert_eq!(notated_meter(dir.path()), (Some(3), Some(90.5)));
     }
 }

@@ -119,10 +119,10 @@ pub fn evaluate_recording(pipeline: &Pipeline, rec: &LabelledRecording) -> Resul
         if let Some(b) = &refs.downbeats_s {
             s.downbeats = Some(EventCounts::of(&trimmed(b), &trimmed(&a.downbeats_s), 0.07));
         }
-        if let Some(bar) = refs.beats_per_bar {
+        if let Some(bar) = refs.notated_meter.0 {
             s.meter_correct = Some(a.meter.map(|m| m.beats_per_bar) == Some(bar));
         }
-        if let Some(tempo) = refs.tempo_bpm {
+        if let Some(tempo) = refs.notated_meter.1 {
             let near = |target: f64| (a.tempo_bpm / target - 1.0).abs() <= TEMPO_TOLERANCE;
             s.tempo_correct = Some(near(tempo));
             s.tempo_octave_error = Some(near(2.0 * tempo) || near(0.5 * tempo));

@@ -5,8 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use corpus::manifest::{Manifest, Split};
-use skeleton::formats::MotionFormat;
-use skeleton::Motion;
+use skeleton::{formats::MotionFormat, Motion};
 
 use crate::error::{Result, TrainError};
 
@@ -102,10 +101,8 @@ pub struct References {
     pub beats_s: Option<Vec<f64>>,
     /// Downbeats in seconds.
     pub downbeats_s: Option<Vec<f64>>,
-    /// Beats per bar at the notated beat (`labels.json`).
-    pub beats_per_bar: Option<u8>,
-    /// Tempo in bpm at the notated beat (`labels.json`).
-    pub tempo_bpm: Option<f64>,
+    /// Beats per bar and tempo (bpm) at the notated beat (`labels.json`).
+    pub notated_meter: (Option<u8>, Option<f64>),
     /// The reference skeleton.
     pub motion: Option<Motion>,
     /// Whether the reference skeleton is in our camera's image space (pixel L1 is
@@ -240,17 +237,8 @@ impl LabelledRecording {
                     segments.push((n[0], n[1], hz as f32));
                 }
                 let motion_path = dir.join("motion.json");
-                // Metre and tempo at the notated beat, when the corpus wrote them.
-                let labels: Option<serde_json::Value> =
-                    std::fs::read_to_string(dir.join("labels.json"))
-                        .ok()
-                        .and_then(|t| serde_json::from_str(&t).ok());
-                let label = |key: &str| labels.as_ref().and_then(|l| l.get(key)?.as_f64());
                 Ok(References {
-                    beats_per_bar: label("beats_per_bar")
-                        .filter(|b| (1.0..=255.0).contains(b))
-                        .map(|b| b as u8),
-                    tempo_bpm: label("tempo_bpm").filter(|t| *t > 0.0),
+                    notated_meter: crate::beat_data::notated_meter(dir),
                     bow_changes_s: Some(first_column(&dir.join("bowchanges.txt"))?),
                     onsets_s: Some(notes.iter().map(|n| n[0]).collect()),
                     f0_hz_at: Some(f0_from_segments(segments)),
@@ -292,8 +280,7 @@ impl LabelledRecording {
                     onsets_s,
                     beats_s: None,
                     downbeats_s: None,
-                    beats_per_bar: None,
-                    tempo_bpm: None,
+                    notated_meter: (None, None),
                     motion: Some(pose.motion),
                     same_image_space: false,
                 })
