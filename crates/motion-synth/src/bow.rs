@@ -138,24 +138,17 @@ pub fn plan_bow(
     downbeat_frames: &[f64],
     policy: &BowPolicy,
 ) -> Result<BowPlan> {
-    policy.validate()?;
-    if frames == 0 {
-        return Ok(BowPlan {
-            strokes: Vec::new(),
-            positions: Vec::new(),
-        });
-    }
-    let bounds = stroke_bounds(changes, frames);
-    let mut dir = first_direction(&bounds, downbeat_frames, policy);
-    let dirs: Vec<BowDirection> = bounds
-        .iter()
-        .map(|_| {
-            let d = dir;
-            dir = dir.reversed();
-            d
-        })
-        .collect();
-    Ok(plan_strokes(&bounds, &dirs, frames, policy))
+    plan_with(changes, frames, policy, |bounds| {
+        let mut dir = first_direction(bounds, downbeat_frames, policy);
+        bounds
+            .iter()
+            .map(|_| {
+                let d = dir;
+                dir = dir.reversed();
+                d
+            })
+            .collect()
+    })
 }
 
 /// [`plan_bow`] with the direction of every stroke given (e.g. by the stroke network):
@@ -178,6 +171,21 @@ pub fn plan_bow_directed(
     direction_at: impl Fn(usize) -> BowDirection,
     policy: &BowPolicy,
 ) -> Result<BowPlan> {
+    plan_with(changes, frames, policy, |bounds| {
+        bounds
+            .iter()
+            .map(|&(a, b)| direction_at(a + (b - a) / 2))
+            .collect()
+    })
+}
+
+/// The strokes between `changes`, one direction each from `directions`, planned.
+fn plan_with(
+    changes: &[usize],
+    frames: usize,
+    policy: &BowPolicy,
+    directions: impl FnOnce(&[(usize, usize)]) -> Vec<BowDirection>,
+) -> Result<BowPlan> {
     policy.validate()?;
     if frames == 0 {
         return Ok(BowPlan {
@@ -186,10 +194,7 @@ pub fn plan_bow_directed(
         });
     }
     let bounds = stroke_bounds(changes, frames);
-    let dirs: Vec<BowDirection> = bounds
-        .iter()
-        .map(|&(a, b)| direction_at(a + (b - a) / 2))
-        .collect();
+    let dirs = directions(&bounds);
     Ok(plan_strokes(&bounds, &dirs, frames, policy))
 }
 
