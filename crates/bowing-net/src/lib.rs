@@ -1,7 +1,10 @@
 //! # bowing-net
 //!
-//! The bow-change CNN of SPEC §4 on candle (CPU): a 60-frame × 128-band mel window around a
-//! frame → the probability that the bow changes direction at that frame.
+//! Where the bow changes, and which string it plays, from the 30 fps mel spectrogram, on
+//! candle (CPU): the stroke network ([`stroke`], trained on the many-violin corpus), the
+//! bow-change CNN of SPEC §4 (a 60-frame × 128-band mel window around a frame → the
+//! probability of a change there), and [`BowingModel`], either one or their average (the
+//! shipped default, [`BowingModel::pretrained`]).
 //!
 //! * [`model`]: the network ([`BowingNet`], candle model style: `Config`,
 //!   `BowingNet::new(cfg, vb)`, `forward_t(&x, train)`) and its phase-tree evaluation that
