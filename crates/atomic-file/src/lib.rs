@@ -1,9 +1,18 @@
 //! # atomic-file
 //!
-//! Every output of violin-skeleton is written the same way: into a temporary file in the
-//! target's folder, flushed, given ordinary permissions (tempfile makes files 0600 and
-//! folders 0700), then renamed over the target. A failure at any point leaves the target
-//! as it was and no temporary file behind.
+//! Every output of violin-skeleton is written the same way (the output contract):
+//!
+//! - a regular file is written into a temporary file in the target's folder, flushed, given
+//!   ordinary permissions (tempfile makes files 0600 and folders 0700), then renamed over the
+//!   target, so a failure or a killed process leaves either the old file or the complete new
+//!   one, and no temporary file behind;
+//! - `-` is standard output, written directly;
+//! - an existing special file (a FIFO, a character or block device, a socket) is opened and
+//!   written directly, never replaced ([`Destination`]);
+//! - a folder output is filled under a temporary name and renamed into place; an existing
+//!   folder is replaced only when it holds nothing but files the writer itself makes
+//!   ([`replace_dir_atomically`]);
+//! - [`same_file`] tells a caller when an output would overwrite one of its inputs.
 //!
 //! ```
 //! use std::io::Write;
@@ -14,8 +23,14 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod destination;
+mod dir;
+
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
+
+pub use destination::{destination, is_stdout, same_file, Destination};
+pub use dir::replace_dir_atomically;
 
 /// Why an atomic write failed: the file system, or the caller's own writer.
 #[derive(Debug)]
@@ -45,11 +60,30 @@ pub fn parent_dir(path: &Path) -> PathBuf {
     }
 }
 
-/// Writes `path` through `write`, atomically (see the crate documentation).
+/// Writes `path` through `write`: atomically for a regular file, directly for `-` (standard
+/// output) and for an existing special file (see the crate documentation).
 pub fn write_atomically<E>(
     path: &Path,
     write: impl FnOnce(&mut dyn Write) -> Result<(), E>,
 ) -> Result<(), AtomicWriteError<E>> {
+    match destination(path) {
+        Destination::Stdout => {
+            let stdout = std::io::stdout();
+            let mut w = BufWriter::new(stdout.lock());
+            write(&mut w).map_err(AtomicWriteError::Write)?;
+            return w.flush().map_err(AtomicWriteError::Io);
+        }
+        Destination::Special => {
+            let file = std::fs::OpenOptions::new()
+                .write(true)
+                .open(path)
+                .map_err(AtomicWriteError::Io)?;
+            let mut w = BufWriter::new(file);
+            write(&mut w).map_err(AtomicWriteError::Write)?;
+            return w.flush().map_err(AtomicWriteError::Io);
+        }
+        Destination::Regular => {}
+    }
     let tmp = tempfile::Builder::new()
         .prefix(".violin-skeleton-")
         .suffix(".tmp")
@@ -103,6 +137,26 @@ mod tests {
         assert!(matches!(r, Err(AtomicWriteError::Write(ref m)) if m == "writer failed"));
         assert_eq!(std::fs::read(&path).unwrap(), b"old");
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_device_is_written_directly_and_never_replaced() {
+        use std::os::unix::fs::FileTypeExt;
+        // /dev/null takes the bytes and stays a character device.
+        write_bytes_atomically(Path::new("/dev/null"), b"x").unwrap();
+        assert!(std::fs::metadata("/dev/null")
+            .unwrap()
+            .file_type()
+            .is_char_device());
+        // /dev/full refuses them: an error, and still a device.
+        if Path::new("/dev/full").exists() {
+            assert!(write_bytes_atomically(Path::new("/dev/full"), &[0u8; 1 << 16]).is_err());
+            assert!(std::fs::metadata("/dev/full")
+                .unwrap()
+                .file_type()
+                .is_char_device());
+        }
     }
 
     #[test]

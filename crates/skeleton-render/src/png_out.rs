@@ -7,7 +7,6 @@ use skeleton::Motion;
 use crate::config::RenderConfig;
 use crate::draw::FramePainter;
 use crate::error::{RenderError, Result};
-use crate::files::write_file_atomically;
 
 /// File name of picture `k` in a frames folder: `frame_000000.png`, …
 pub fn png_frame_name(k: usize) -> String {
@@ -32,9 +31,20 @@ pub fn render_png(motion: &Motion, frame: usize, cfg: &RenderConfig) -> Result<V
         .map_err(|e| RenderError::Png(e.to_string()))
 }
 
-/// Writes the pictures of [`RenderConfig::frame_indices`] into folder `dir` (created if
-/// missing) as `frame_000000.png`, … and returns how many; `progress(done, total)` is called
-/// after each. Each file is written atomically.
+/// `true` for the names [`write_png_frames`] writes (`frame_NNNNNN.png`).
+fn is_frame_name(name: &str) -> bool {
+    name.strip_prefix("frame_")
+        .and_then(|rest| rest.strip_suffix(".png"))
+        .is_some_and(|digits| !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit()))
+}
+
+/// Writes the pictures of [`RenderConfig::frame_indices`] into folder `dir` as
+/// `frame_000000.png`, … and returns how many; `progress(done, total)` is called after each.
+///
+/// The folder is written atomically ([`atomic_file::replace_dir_atomically`]): filled under a
+/// temporary name and renamed into place, so a reused folder holds exactly this run's frames
+/// (none left over from a longer earlier run). An existing folder is replaced only when it
+/// holds nothing but `frame_*.png` files; otherwise it is an error and nothing is touched.
 pub fn write_png_frames(
     motion: &Motion,
     dir: impl AsRef<Path>,
@@ -43,22 +53,29 @@ pub fn write_png_frames(
 ) -> Result<usize> {
     let dir = dir.as_ref();
     let mut painter = FramePainter::new(motion, cfg, true)?;
-    std::fs::create_dir_all(dir).map_err(|source| RenderError::Io {
-        path: dir.to_path_buf(),
-        source,
-    })?;
     let indices = cfg.frame_indices(motion);
-    for (k, &f) in indices.iter().enumerate() {
-        painter.draw(motion, f);
-        let png = painter
-            .pixmap()
-            .encode_png()
-            .map_err(|e| RenderError::Png(e.to_string()))?;
-        write_file_atomically(&dir.join(png_frame_name(k)), |w| {
-            w.write_all(&png)?;
-            Ok(())
-        })?;
-        progress(k + 1, indices.len());
-    }
+    let fill = |tmp: &Path| -> Result<()> {
+        for (k, &f) in indices.iter().enumerate() {
+            painter.draw(motion, f);
+            let png = painter
+                .pixmap()
+                .encode_png()
+                .map_err(|e| RenderError::Png(e.to_string()))?;
+            let file = tmp.join(png_frame_name(k));
+            std::fs::write(&file, &png).map_err(|source| RenderError::Io {
+                path: dir.join(png_frame_name(k)),
+                source,
+            })?;
+            progress(k + 1, indices.len());
+        }
+        Ok(())
+    };
+    atomic_file::replace_dir_atomically(dir, &is_frame_name, fill).map_err(|e| match e {
+        atomic_file::AtomicWriteError::Io(source) => RenderError::Io {
+            path: dir.to_path_buf(),
+            source,
+        },
+        atomic_file::AtomicWriteError::Write(e) => e,
+    })?;
     Ok(indices.len())
 }

@@ -159,6 +159,36 @@ fn png_frames_fill_a_folder() {
 }
 
 #[test]
+fn a_reused_frames_folder_holds_only_the_new_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("frames");
+    let at = |fps_out: f64| RenderConfig {
+        fps_out,
+        ..RenderConfig::default()
+    };
+    assert_eq!(
+        write_png_frames(&figure(30), &out, &at(10.0), |_, _| {}).unwrap(),
+        10
+    );
+    assert_eq!(
+        write_png_frames(&figure(30), &out, &at(5.0), |_, _| {}).unwrap(),
+        5
+    );
+    assert_eq!(
+        std::fs::read_dir(&out).unwrap().count(),
+        5,
+        "no stale frames"
+    );
+    // A folder with the user's own files is never emptied.
+    std::fs::write(out.join("notes.txt"), b"mine").unwrap();
+    let err = write_png_frames(&figure(30), &out, &at(10.0), |_, _| {}).unwrap_err();
+    assert!(err.to_string().contains("holds other files"), "{err}");
+    assert_eq!(std::fs::read_dir(&out).unwrap().count(), 6);
+    // Only the folder itself is left in the parent: no temporary folders.
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+}
+
+#[test]
 fn html_player_embeds_motion_and_audio() {
     let m = figure(6);
     let mut page = Vec::new();

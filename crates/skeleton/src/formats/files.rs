@@ -70,65 +70,18 @@ pub(crate) fn write_file(
     })
 }
 
-/// True when `dir` holds only `*_keypoints.json` files (or nothing): safe to replace.
-fn only_keypoint_files(dir: &Path) -> Result<bool> {
-    for entry in std::fs::read_dir(dir).map_err(|e| io_error(dir, e))? {
-        let entry = entry.map_err(|e| io_error(dir, e))?;
-        let name = entry.file_name();
-        let is_file = entry.file_type().map_err(|e| io_error(dir, e))?.is_file();
-        if !(is_file && name.to_string_lossy().ends_with("_keypoints.json")) {
-            return Ok(false);
-        }
-    }
-    Ok(true)
-}
-
-/// Creates directory `dir` with `fill` atomically: `fill` writes into a temporary directory
-/// beside `dir`, which is then renamed to `dir`. An existing `dir` is replaced only when it
-/// holds nothing but `*_keypoints.json` files (so no user file is ever deleted).
+/// Creates directory `dir` with `fill` atomically ([`atomic_file::replace_dir_atomically`]):
+/// an existing `dir` is replaced as a whole only when it holds nothing but
+/// `*_keypoints.json` files (so no user file is ever deleted and no stale frame survives).
 pub(crate) fn write_dir(dir: &Path, fill: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
-    let parent = parent_dir(dir)?;
-    if dir.exists() {
-        if !dir.is_dir() {
-            return Err(format_error(
-                dir,
-                "cannot write an OpenPose directory: a file with this name exists; choose another name",
-            ));
+    let owned = |name: &str| name.ends_with("_keypoints.json");
+    atomic_file::replace_dir_atomically(dir, &owned, fill).map_err(|e| match e {
+        atomic_file::AtomicWriteError::Io(e) if e.kind() == std::io::ErrorKind::InvalidInput => {
+            format_error(dir, format!("cannot write an OpenPose folder: {e}"))
         }
-        if !only_keypoint_files(dir)? {
-            return Err(format_error(
-                dir,
-                "cannot write an OpenPose directory: it exists and holds other files; choose a new or empty directory",
-            ));
-        }
-    }
-    let tmp = tempfile::Builder::new()
-        .prefix(".skeleton-openpose-")
-        .tempdir_in(&parent)
-        .map_err(|e| io_error(dir, e))?;
-    fill(tmp.path())?;
-    atomic_file::make_ordinary(tmp.path(), true);
-    if dir.exists() {
-        // Move the old directory aside (a fresh temporary name), move the new one in, then
-        // delete the old one; on failure put the old one back.
-        let aside = tempfile::Builder::new()
-            .prefix(".skeleton-old-")
-            .tempdir_in(&parent)
-            .map_err(|e| io_error(dir, e))?;
-        let aside_path = aside.path().join("old");
-        std::fs::rename(dir, &aside_path).map_err(|e| io_error(dir, e))?;
-        if let Err(e) = std::fs::rename(tmp.path(), dir) {
-            // Best effort: the original error is the one to report.
-            let _ = std::fs::rename(&aside_path, dir);
-            return Err(io_error(dir, e));
-        }
-        let _ = tmp.keep();
-        drop(aside); // removes the old directory
-    } else {
-        std::fs::rename(tmp.path(), dir).map_err(|e| io_error(dir, e))?;
-        let _ = tmp.keep();
-    }
-    Ok(())
+        atomic_file::AtomicWriteError::Io(e) => io_error(dir, e),
+        atomic_file::AtomicWriteError::Write(e) => e,
+    })
 }
 
 #[cfg(test)]
