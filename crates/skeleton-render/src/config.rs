@@ -95,6 +95,9 @@ pub struct Layout {
     pub out_centre: [f32; 2],
 }
 
+/// The drawn head's radius as a fraction of the nose–neck distance.
+pub(crate) const HEAD_RADIUS_PER_NECK: f32 = 0.42;
+
 impl Layout {
     /// Fits `motion` into the picture: the motion's image (when its size is known) fills
     /// the picture, else the bounding box of every finite point over all frames fills 90 %
@@ -120,6 +123,19 @@ impl Layout {
                         lo[c] = lo[c].min(p[c]);
                         hi[c] = hi[c].max(p[c]);
                     }
+                }
+            }
+        }
+        // The head is drawn as a circle around the nose (radius 0.42 × nose–neck, see
+        // `draw`): it belongs in the box too, or the top of the head is cut off.
+        let (nose, neck) = (skeleton::Joint::Nose.index(), skeleton::Joint::Neck.index());
+        for frame in motion.frames().outer_iter() {
+            let (n, k) = (frame.row(nose), frame.row(neck));
+            let r = HEAD_RADIUS_PER_NECK * (n[0] - k[0]).hypot(n[1] - k[1]);
+            if r.is_finite() && n[0].is_finite() && n[1].is_finite() {
+                for c in 0..2 {
+                    lo[c] = lo[c].min(n[c] - r);
+                    hi[c] = hi[c].max(n[c] + r);
                 }
             }
         }
@@ -168,6 +184,26 @@ mod tests {
         .frame_indices(&m);
         assert_eq!(odd.len(), 120);
         assert_eq!(&odd[..3], &[0, 2, 5]);
+    }
+
+    #[test]
+    fn the_drawn_head_fits_in_the_picture() {
+        // A motion without an image size (CSV, NPY): nose at the top of the points, the neck
+        // 40 px below it, so the head circle reaches 16.8 px above the nose.
+        let mut a = Array3::<f32>::zeros((1, 10, 2));
+        for j in 0..10 {
+            a[[0, j, 0]] = 100.0 + 10.0 * j as f32;
+            a[[0, j, 1]] = 200.0 + 20.0 * j as f32;
+        }
+        a[[0, skeleton::Joint::Nose.index(), 1]] = 100.0;
+        a[[0, skeleton::Joint::Neck.index(), 1]] = 140.0;
+        a[[0, skeleton::Joint::Nose.index(), 0]] = 150.0;
+        a[[0, skeleton::Joint::Neck.index(), 0]] = 150.0;
+        let m = Motion::new(30.0, a).unwrap();
+        let cfg = RenderConfig::default();
+        let l = Layout::fit(&m, &cfg).unwrap();
+        let (_, top) = l.map(150.0, 100.0 - 0.42 * 40.0);
+        assert!(top >= 0.0, "the head's top is drawn at y = {top}");
     }
 
     #[test]

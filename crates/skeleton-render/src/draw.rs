@@ -226,7 +226,8 @@ impl FramePainter {
             self.violin(body, scroll);
         }
         if let (Some(nose), Some(neck)) = (at(Joint::Nose), at(Joint::Neck)) {
-            let r = ((nose.0 - neck.0).powi(2) + (nose.1 - neck.1).powi(2)).sqrt() * 0.42;
+            let r = ((nose.0 - neck.0).powi(2) + (nose.1 - neck.1).powi(2)).sqrt()
+                * crate::config::HEAD_RADIUS_PER_NECK;
             self.ring(HEAD, nose, r, lw * 0.8);
         }
         for (a, b) in BONES {
