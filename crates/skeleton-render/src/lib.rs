@@ -34,13 +34,18 @@ mod error;
 mod files;
 mod gif_out;
 mod html;
+mod player_sound;
 mod png_out;
 
 pub use config::{Layout, RenderConfig, Rgb};
 pub use draw::FramePainter;
 pub use error::{RenderError, Result};
 pub use gif_out::{write_gif, write_gif_file, write_gif_with_progress};
-pub use html::{audio_mime, player_json, write_html_player, write_html_player_file};
+pub use html::{
+    audio_mime, player_json, write_html_player, write_html_player_file,
+    write_html_player_file_with, write_html_player_with,
+};
+pub use player_sound::{PlayerNote, PlayerSound};
 pub use png_out::{png_frame_name, render_png, write_png_frames};
 
 /// The README's example, compiled and run as a doctest.
