@@ -19,6 +19,7 @@ use std::time::Instant;
 use clap::Args;
 use violin_skeleton::Pipeline;
 
+use crate::contract::{check_outputs, named};
 use crate::error::CliError;
 use crate::fingering_args::FingeringArgs;
 use crate::generate::{is_midi, with_input, AnalysisWeights};
@@ -57,6 +58,9 @@ pub fn run(args: &AnalyzeArgs, report: &Reporter) -> Result<(), CliError> {
             )));
         }
     }
+    let mut inputs = vec![named("input", &args.input)];
+    inputs.extend(args.weights.inputs());
+    check_outputs(&inputs, &[named("-o", &args.output)])?;
     let pipeline = args
         .fingering
         .apply(args.weights.apply(Pipeline::builder()))

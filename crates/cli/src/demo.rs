@@ -17,8 +17,9 @@ use violin_skeleton::fingering::OptimalPlanner;
 use violin_skeleton::{Audio, Pipeline};
 
 use crate::error::CliError;
-use crate::generate::{write_motion, write_preview, OutFormat};
+use crate::generate::{write_motion, OutFormat};
 use crate::output::write_atomically;
+use crate::preview::{write_preview, SoundSource};
 use crate::Reporter;
 
 /// Arguments of `demo`.
@@ -92,8 +93,14 @@ pub fn run(args: &DemoArgs, report: &Reporter) -> Result<(), CliError> {
     write_motion(&motion, &out.join("openpose"), OutFormat::Openpose)?;
     write_motion(&motion, &out.join("motion.bvh"), OutFormat::Bvh)?;
     bar.inc(1);
-    write_preview(&motion, &out.join("preview.gif"), None)?;
-    write_preview(&motion, &out.join("player.html"), Some(&wav_path))?;
+    write_preview(&motion, &out.join("preview.gif"), SoundSource::None)?;
+    let sound = SoundSource::Audio {
+        path: &wav_path,
+        embed: false,
+    };
+    if let Some(note) = write_preview(&motion, &out.join("player.html"), sound)? {
+        report.line(&note);
+    }
     bar.inc(1);
     bar.finish_and_clear();
     // 4. How close the analysis came to what was played.

@@ -9,6 +9,7 @@ use violin_skeleton::dsp_mel::{
     load_audio, resample, DbConfig, MelConfig, MelSpectrogram, DEFAULT_ANALYSIS_RATE_HZ,
 };
 
+use crate::contract::{check_outputs, named};
 use crate::error::CliError;
 use crate::output::write_atomically;
 use crate::Reporter;
@@ -56,6 +57,7 @@ pub struct FeaturesArgs {
 /// Runs `features`.
 pub fn run(args: &FeaturesArgs, report: &Reporter) -> Result<(), CliError> {
     let target_rate = parse_rate(&args.sample_rate)?;
+    check_outputs(&[named("input", &args.input)], &[named("-o", &args.output)])?;
     let t0 = Instant::now();
     let mut audio = load_audio(&args.input)?;
     let decoded = t0.elapsed();

@@ -6,13 +6,12 @@ use std::time::Instant;
 use clap::{Args, ValueEnum};
 use violin_skeleton::skeleton::formats::OpenPoseOptions;
 use violin_skeleton::skeleton::PoseLayout;
-use violin_skeleton::skeleton_render::{
-    audio_mime, write_gif_file, write_html_player_file, RenderConfig,
-};
 use violin_skeleton::{Method, Motion, MotionFormat, Pipeline, PipelineBuilder};
 
+use crate::contract::{check_outputs, named, refuse_stdout_folder, NamedPath};
 use crate::error::CliError;
 use crate::fingering_args::FingeringArgs;
+use crate::preview::{check_preview_name, write_preview, SoundSource};
 use crate::Reporter;
 
 /// Motion file formats.
@@ -78,9 +77,13 @@ pub struct GenerateArgs {
     /// Fingering planner and style.
     #[command(flatten)]
     pub fingering: FingeringArgs,
-    /// Also write a preview: `.gif` or `.html` (player with the audio embedded).
+    /// Also write a preview: `.gif` or `.html` (a player with the sound: audio up to 2 MiB
+    /// embedded, larger audio linked beside the page, MIDI notes synthesized in the browser).
     #[arg(long)]
     pub preview: Option<PathBuf>,
+    /// Put the audio in the HTML player whatever its size (one self-contained page).
+    #[arg(long)]
+    pub embed_audio: bool,
     /// Also write the analysis (f0, notes, bow changes, beats, arousal) as JSON.
     #[arg(long)]
     pub analysis_out: Option<PathBuf>,
@@ -116,34 +119,6 @@ pub fn write_motion(motion: &Motion, path: &Path, format: OutFormat) -> Result<(
         )?,
         OutFormat::Bvh => violin_skeleton::motion_synth::bvh::write_bvh_file(motion, path)
             .map_err(violin_skeleton::Error::from)?,
-    }
-    Ok(())
-}
-
-/// Writes a `.gif` or `.html` preview (the HTML embeds `audio` when given).
-pub fn write_preview(motion: &Motion, path: &Path, audio: Option<&Path>) -> Result<(), CliError> {
-    let ext = path
-        .extension()
-        .map(|e| e.to_string_lossy().to_ascii_lowercase());
-    match ext.as_deref() {
-        Some("gif") => write_gif_file(motion, path, &RenderConfig::default())?,
-        Some("html") | Some("htm") => {
-            let bytes = match audio {
-                Some(a) => Some(std::fs::read(a).map_err(|e| CliError::Output {
-                    path: a.to_path_buf(),
-                    reason: format!("cannot read the audio to embed ({e})"),
-                })?),
-                None => None,
-            };
-            let mime = audio.and_then(audio_mime).unwrap_or("audio/wav");
-            write_html_player_file(motion, bytes.as_deref().map(|b| (b, mime)), path)?;
-        }
-        _ => {
-            return Err(CliError::Usage(format!(
-                "--preview {}: use a .gif or .html file name",
-                path.display()
-            )))
-        }
     }
     Ok(())
 }
@@ -204,6 +179,18 @@ pub struct NetworkWeights {
 }
 
 impl AnalysisWeights {
+    /// The weight files given, as inputs of the output contract.
+    pub fn inputs(&self) -> Vec<NamedPath<'_>> {
+        let mut v = Vec::new();
+        if let Some(p) = &self.bowing_weights {
+            v.push(named("--bowing-weights", p));
+        }
+        if let Some(p) = &self.emotion_weights {
+            v.push(named("--emotion-weights", p));
+        }
+        v
+    }
+
     /// Sets the given weight files on a pipeline builder.
     pub fn apply(&self, mut builder: PipelineBuilder) -> PipelineBuilder {
         builder = builder.bowing_network(match self.bowing_net {
@@ -252,9 +239,11 @@ pub fn run(args: &GenerateArgs, report: &Reporter) -> Result<(), CliError> {
             )))
         }
     };
+    check_generate_paths(args, format)?;
     let pipeline = pipeline_for(args.method, &args.fingering, &args.weights);
     let t0 = Instant::now();
     let mut timings_line = String::new();
+    let mut midi_notes = Vec::new();
     let (motion, summary) = if is_midi(&args.input) {
         if let Some(p) = &args.analysis_out {
             let analysis = pipeline
@@ -274,6 +263,7 @@ pub fn run(args: &GenerateArgs, report: &Reporter) -> Result<(), CliError> {
             perf.notes().len(),
             perf.bow_changes_s().len()
         );
+        midi_notes = perf.notes().to_vec();
         (motion, summary)
     } else {
         let bar = report.progress(1, "analysing (audio seconds)");
@@ -321,9 +311,17 @@ pub fn run(args: &GenerateArgs, report: &Reporter) -> Result<(), CliError> {
     };
     let t_write = Instant::now();
     write_motion(&motion, &args.output, format)?;
+    let mut preview_note = None;
     if let Some(p) = &args.preview {
-        let audio = (!is_midi(&args.input)).then_some(args.input.as_path());
-        write_preview(&motion, p, audio)?;
+        let source = if is_midi(&args.input) {
+            SoundSource::Notes(&midi_notes)
+        } else {
+            SoundSource::Audio {
+                path: &args.input,
+                embed: args.embed_audio,
+            }
+        };
+        preview_note = write_preview(&motion, p, source)?;
     }
     report.line(&format!(
         "{}: {} → {} frames ({:.1} s at 30 fps, {format:?}) written to {} in {:.2} s",
@@ -334,6 +332,9 @@ pub fn run(args: &GenerateArgs, report: &Reporter) -> Result<(), CliError> {
         args.output.display(),
         t0.elapsed().as_secs_f64()
     ));
+    if let Some(note) = preview_note {
+        report.line(&note);
+    }
     if !timings_line.is_empty() {
         report.line(&format!(
             "  stages: {timings_line}, writing {:.3} s",
@@ -341,6 +342,38 @@ pub fn run(args: &GenerateArgs, report: &Reporter) -> Result<(), CliError> {
         ));
     }
     Ok(())
+}
+
+/// The output contract and the flag checks of `generate`, before anything is read or written.
+fn check_generate_paths(args: &GenerateArgs, format: OutFormat) -> Result<(), CliError> {
+    if format == OutFormat::Openpose {
+        refuse_stdout_folder(
+            named("-o", &args.output),
+            "OpenPose output",
+            "give a folder name, or --format json|csv|npy|bvh for one file",
+        )?;
+    }
+    if let Some(p) = &args.preview {
+        check_preview_name(p)?;
+    }
+    if format == OutFormat::Bvh && matches!(args.method, MethodArg::Gru) {
+        return Err(CliError::Usage(
+            "-o .bvh: BVH needs the 3-D rig, which only --method rules makes; use --format json, csv, npy or openpose with --method gru".into(),
+        ));
+    }
+    let mut inputs = vec![named("input", &args.input)];
+    inputs.extend(args.weights.analysis.inputs());
+    if let Some(p) = &args.weights.gru_weights {
+        inputs.push(named("--gru-weights", p));
+    }
+    let mut outputs = vec![named("-o", &args.output)];
+    if let Some(p) = &args.preview {
+        outputs.push(named("--preview", p));
+    }
+    if let Some(p) = &args.analysis_out {
+        outputs.push(named("--analysis-out", p));
+    }
+    check_outputs(&inputs, &outputs)
 }
 
 /// Names the input file in a "no notes" error.

@@ -4,6 +4,7 @@
 //! which file, what is wrong and what to do); 2 the command line is wrong.
 
 mod analyze;
+mod contract;
 mod corpus_cmd;
 mod demo;
 mod error;
@@ -13,6 +14,7 @@ mod fingering_args;
 mod generate;
 mod output;
 mod pose_labels;
+mod preview;
 mod render;
 mod train;
 mod train_args;

@@ -10,6 +10,7 @@ use pose_preproc::resample::resample;
 use pose_preproc::{preprocess_dir, AxisMode, BowArmChoice, ChangePoint, PoseTrack, PreprocConfig};
 use violin_skeleton::skeleton::{Motion, MotionFormat};
 
+use crate::contract::{check_outputs, named};
 use crate::error::CliError;
 use crate::output::write_atomically;
 use crate::Reporter;
@@ -117,6 +118,11 @@ pub fn run(args: &PoseLabelsArgs, report: &Reporter) -> Result<(), CliError> {
         Some(path) => Some(MotionFormat::from_path(path)?),
         None => None,
     };
+    let mut outputs = vec![named("-o", &args.output)];
+    if let Some(p) = &args.skeleton_out {
+        outputs.push(named("--skeleton-out", p));
+    }
+    check_outputs(&[named("input", &args.dir)], &outputs)?;
     let mut cfg = PreprocConfig {
         fps: args.fps,
         max_gap_frames: args.max_gap_frames,

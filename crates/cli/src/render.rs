@@ -8,11 +8,14 @@ use clap::Args;
 use violin_skeleton::dsp_mel::load_audio;
 use violin_skeleton::skeleton::{Motion, MotionFormat};
 use violin_skeleton::skeleton_render::{
-    audio_mime, write_gif_with_progress, write_html_player, write_png_frames, RenderConfig,
+    audio_mime, write_gif_with_progress, write_png_frames, RenderConfig,
 };
 
+use crate::contract::{check_outputs, named, refuse_stdout_folder};
 use crate::error::CliError;
+use crate::generate::{is_midi, with_input};
 use crate::output::write_atomically;
+use crate::preview::{write_player, SoundSource};
 use crate::Reporter;
 
 /// Arguments of `render`.
@@ -23,9 +26,13 @@ use crate::Reporter;
 pub struct RenderArgs {
     /// Motion file (motion .json; .csv, .npy or an OpenPose folder also work).
     pub input: PathBuf,
-    /// Audio to embed in the HTML player (wav, mp3, ogg, flac).
+    /// The HTML player's sound: audio (wav, mp3, ogg, flac; up to 2 MiB embedded, larger
+    /// linked beside the page) or a MIDI file (its notes synthesized in the browser).
     #[arg(long)]
     pub audio: Option<PathBuf>,
+    /// Put the audio in the HTML player whatever its size (one self-contained page).
+    #[arg(long)]
+    pub embed_audio: bool,
     /// Output: P.gif, P.html or a folder for PNG frames.
     #[arg(short, long)]
     pub output: PathBuf,
@@ -65,39 +72,49 @@ fn output_kind(path: &Path) -> Result<Kind, CliError> {
     }
 }
 
-/// Reads the audio to embed, checking that it decodes; returns bytes, MIME type and length.
-fn read_audio(path: &Path) -> Result<(Vec<u8>, &'static str, f64), CliError> {
-    let mime = audio_mime(path).ok_or_else(|| {
-        CliError::Usage(format!(
-            "--audio {}: unknown audio type; use a .wav, .mp3, .ogg or .flac file",
+/// Checks the player's audio: a known type that decodes; returns its length in seconds.
+fn check_audio(path: &Path) -> Result<f64, CliError> {
+    if audio_mime(path).is_none() {
+        return Err(CliError::Usage(format!(
+            "--audio {}: unknown audio type; use a .wav, .mp3, .ogg, .flac or .mid file",
             path.display()
-        ))
-    })?;
-    let duration_s = load_audio(path)?.duration_s();
-    let bytes = std::fs::read(path).map_err(|e| {
-        CliError::Usage(format!("--audio {}: cannot read it ({e})", path.display()))
-    })?;
-    Ok((bytes, mime, duration_s))
+        )));
+    }
+    Ok(load_audio(path)?.duration_s())
 }
 
 /// Runs `render`.
 pub fn run(args: &RenderArgs, report: &Reporter) -> Result<(), CliError> {
     let t0 = Instant::now();
     let kind = output_kind(&args.output)?;
+    if kind == Kind::PngFrames {
+        refuse_stdout_folder(
+            named("-o", &args.output),
+            "PNG frames output",
+            "give a folder name, or -o P.gif / P.html",
+        )?;
+    }
+    let mut inputs = vec![named("input", &args.input)];
+    if let Some(a) = &args.audio {
+        inputs.push(named("--audio", a));
+    }
+    check_outputs(&inputs, &[named("-o", &args.output)])?;
     if args.audio.is_some() && kind != Kind::Html {
         return Err(CliError::Usage(
             "--audio is embedded only in an HTML player; give -o P.html".into(),
         ));
     }
-    let format = MotionFormat::from_path(&args.input)?;
-    let motion = Motion::read(&args.input, format)?;
     let cfg = RenderConfig {
         width: args.width,
         height: args.height,
         fps_out: args.fps,
         ..RenderConfig::default()
     };
-    cfg.validate()?;
+    // A bad --width, --height or --fps is a usage error (exit 2), found before any work.
+    cfg.validate()
+        .map_err(|e| CliError::Usage(format!("{e}; check --width, --height and --fps")))?;
+    let format = MotionFormat::from_path(&args.input)?;
+    let motion = Motion::read(&args.input, format)?;
     let pictures = cfg.frame_indices(&motion).len();
     let what = match kind {
         Kind::Gif => {
@@ -123,19 +140,40 @@ pub fn run(args: &RenderArgs, report: &Reporter) -> Result<(), CliError> {
             format!("{n} PNG frames {}×{}", cfg.width, cfg.height)
         }
         Kind::Html => {
-            let audio = args.audio.as_deref().map(read_audio).transpose()?;
-            if let Some((_, _, audio_s)) = &audio {
+            let midi_notes = match &args.audio {
+                Some(a) if is_midi(a) => Some(
+                    violin_skeleton::Pipeline::default()
+                        .performance_from_midi(a)
+                        .map_err(|e| with_input(e, a))?
+                        .notes()
+                        .to_vec(),
+                ),
+                _ => None,
+            };
+            let audio_s = match (&args.audio, &midi_notes) {
+                (Some(a), None) => Some(check_audio(a)?),
+                (_, Some(notes)) => notes.iter().map(|n| n.offset_s).reduce(f64::max),
+                _ => None,
+            };
+            if let Some(audio_s) = audio_s {
                 if (audio_s - motion.duration_s()).abs() > 1.0 {
                     report.line(&format!(
-                        "warning: the audio lasts {audio_s:.1} s but the motion {:.1} s; they will drift apart",
+                        "warning: the sound lasts {audio_s:.1} s but the motion {:.1} s; they will drift apart",
                         motion.duration_s()
                     ));
                 }
             }
-            write_atomically(&args.output, |w| {
-                let embedded = audio.as_ref().map(|(b, m, _)| (b.as_slice(), *m));
-                write_html_player(&motion, embedded, w).map_err(|e| e.to_string())
-            })?;
+            let source = match (&args.audio, &midi_notes) {
+                (_, Some(notes)) => SoundSource::Notes(notes),
+                (Some(a), None) => SoundSource::Audio {
+                    path: a,
+                    embed: args.embed_audio,
+                },
+                (None, None) => SoundSource::None,
+            };
+            if let Some(note) = write_player(&motion, &args.output, source)? {
+                report.line(&note);
+            }
             match &args.audio {
                 Some(a) => format!("HTML player with {}", a.display()),
                 None => "HTML player (no audio)".to_string(),

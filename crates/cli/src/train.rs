@@ -5,6 +5,7 @@ use std::time::Instant;
 use violin_skeleton::bowing_net::{self, metrics::Evaluation, TrainConfig};
 use violin_skeleton::emotion_net;
 
+use crate::contract::{check_outputs, named};
 use crate::error::CliError;
 use crate::train_args::{Network, TrainArgs};
 use crate::train_io::{describe, loading_bar, write_json};
@@ -15,6 +16,15 @@ pub fn run(args: &TrainArgs, report: &Reporter) -> Result<(), CliError> {
     if args.epochs == Some(0) {
         return Err(CliError::Usage("--epochs must be at least 1".into()));
     }
+    let mut inputs = vec![named("--data", &args.data)];
+    if let Some(p) = &args.config {
+        inputs.push(named("--config", p));
+    }
+    let mut outputs = vec![named("--out", &args.out)];
+    if let Some(p) = &args.report {
+        outputs.push(named("--report", p));
+    }
+    check_outputs(&inputs, &outputs)?;
     if let Some(parent) = args.out.parent().filter(|p| !p.as_os_str().is_empty()) {
         if !parent.is_dir() {
             return Err(CliError::Output {
@@ -95,14 +105,19 @@ fn train_bowing(args: &TrainArgs, report: &Reporter) -> Result<(), CliError> {
         }
         bar.set_length(p.steps as u64);
         bar.set_position(p.step as u64);
+        // Before the first validation there is no F1 to show (not 0.000).
+        let best = if last_f1 == "–" {
+            "–".to_string()
+        } else {
+            format!("{:.3}", p.best_f1)
+        };
         let msg = format!(
-            "epoch {}/{} ({:.0} s) loss {:.4} val F1 {} (best {:.3})",
+            "epoch {}/{} ({:.0} s) loss {:.4} val F1 {} (best {best})",
             p.epoch + 1,
             p.epochs,
             p.elapsed_s,
             p.loss,
             last_f1,
-            p.best_f1
         );
         if p.val_f1.is_some() && bar.is_hidden() {
             report.line(&msg);
@@ -164,14 +179,18 @@ fn train_emotion(args: &TrainArgs, report: &Reporter) -> Result<(), CliError> {
         }
         bar.set_length(p.steps as u64);
         bar.set_position(p.step as u64);
+        let best = if last_r == "–" {
+            "–".to_string()
+        } else {
+            format!("{:.3}", p.best_r)
+        };
         let msg = format!(
-            "epoch {}/{} ({:.0} s) loss {:.4} val r {} (best {:.3})",
+            "epoch {}/{} ({:.0} s) loss {:.4} val r {} (best {best})",
             p.epoch + 1,
             p.epochs,
             p.elapsed_s,
             p.loss,
             last_r,
-            p.best_r
         );
         if p.val_r.is_some() && bar.is_hidden() {
             report.line(&msg);

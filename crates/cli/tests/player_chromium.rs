@@ -9,6 +9,10 @@
 //! that variable and without a browser, the test says so on stderr and checks nothing.
 #![allow(clippy::unwrap_used, clippy::expect_used, missing_docs)]
 
+mod common;
+
+use common::write_midi;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
@@ -111,15 +115,51 @@ fn the_player_animates_the_skeleton_in_headless_chromium() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let player = dir.path().join("demo-out/player.html");
-    let url = format!("file://{}?play=1", player.display());
+    // The demo's player (audio in the page), a MIDI player (notes synthesized in the page)
+    // and a player whose linked audio is missing: each must animate on its own.
+    let mid = dir.path().join("piece.mid");
+    write_midi(&mid, 16);
+    let out = Command::new(env!("CARGO_BIN_EXE_violin-skeleton"))
+        .args([
+            "generate",
+            "piece.mid",
+            "-o",
+            "m.json",
+            "--preview",
+            "midi.html",
+        ])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let html = std::fs::read_to_string(dir.path().join("midi.html")).unwrap();
+    let page = html.replace(
+        "<script type=\"application/json\" id=\"notes\">",
+        "<audio id=\"audio\" preload=\"auto\" src=\"missing.wav\"></audio><script type=\"application/json\" id=\"unused\">",
+    );
+    std::fs::write(dir.path().join("linked.html"), page).unwrap();
+    for name in ["demo-out/player.html", "midi.html", "linked.html"] {
+        assert_animates(&chromium, &dir.path().join(name), dir.path());
+    }
+}
 
-    let early = screenshot(&chromium, &url, 500, dir.path());
-    let later = screenshot(&chromium, &url, 2500, dir.path());
+/// Screenshots of `player` after 0.5 s and 2.5 s of playing show the skeleton in two poses.
+fn assert_animates(chromium: &Path, player: &Path, dir: &Path) {
+    let url = format!("file://{}?play=1", player.display());
+    let shots = dir.join(player.file_stem().unwrap());
+    std::fs::create_dir_all(&shots).unwrap();
+    let dir = shots.as_path();
+    let early = screenshot(chromium, &url, 500, dir);
+    let later = screenshot(chromium, &url, 2500, dir);
     let (arm_early, arm_later) = (bowing_arm_pixels(&early), bowing_arm_pixels(&later));
     assert!(
         arm_early > 100 && arm_later > 100,
-        "skeleton not drawn: {arm_early} / {arm_later} arm pixels"
+        "{}: skeleton not drawn: {arm_early} / {arm_later} arm pixels",
+        player.display()
     );
     let canvas_bytes = (WIDTH * HEIGHT * 3 / 4 * 4) as usize;
     let changed = early[..canvas_bytes]
@@ -129,6 +169,7 @@ fn the_player_animates_the_skeleton_in_headless_chromium() {
         .count();
     assert!(
         changed > 200,
-        "the skeleton did not move between 0.5 s and 2.5 s ({changed} pixels changed)"
+        "{}: the skeleton did not move between 0.5 s and 2.5 s ({changed} pixels changed)",
+        player.display()
     );
 }
