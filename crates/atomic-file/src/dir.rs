@@ -4,7 +4,8 @@
 use std::io::{Error, ErrorKind};
 use std::path::Path;
 
-use crate::{is_stdout, make_ordinary, parent_dir, AtomicWriteError};
+use crate::destination::is_stdout;
+use crate::file::{make_ordinary, parent_dir, AtomicWriteError};
 
 fn refused(reason: String) -> Error {
     Error::new(ErrorKind::InvalidInput, reason)
