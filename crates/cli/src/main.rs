@@ -95,6 +95,14 @@ impl Reporter {
 }
 
 fn main() -> ExitCode {
+    // A codec library that panics on a damaged file is turned into an error naming the file
+    // (dsp-mel's guard); its panic message would be a second, confusing stderr line.
+    let default_hook = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        if !violin_skeleton::dsp_mel::inside_decoder_guard() {
+            default_hook(info)
+        }
+    }));
     let cli = Cli::parse();
     let report = Reporter { quiet: cli.quiet };
     let result: Result<(), CliError> = match &cli.command {

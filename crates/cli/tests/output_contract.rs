@@ -286,3 +286,20 @@ fn the_player_of_three_minutes_is_small_and_has_sound() {
     assert!(r.status.success(), "{}", stderr(&r));
     assert!(std::fs::metadata(&player).unwrap().len() > 8 << 20);
 }
+
+#[test]
+fn a_file_that_panics_a_codec_gives_one_line_and_exit_1() {
+    let ogg = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../dsp-mel/tests/fixtures/audio/vorbis_codebook_panic.ogg");
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("a.json");
+    let r = run(&[os("analyze"), ogg.as_os_str(), os("-o"), out.as_os_str()]);
+    let err = stderr(&r);
+    assert_eq!(r.status.code(), Some(1), "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(
+        err.contains("vorbis_codebook_panic.ogg") && err.contains("damaged stream"),
+        "{err}"
+    );
+    assert!(!out.exists());
+}

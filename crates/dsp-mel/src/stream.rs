@@ -90,28 +90,33 @@ impl AudioReader {
         if let Some(ext) = path.extension().and_then(|e| e.to_str()) {
             hint.with_extension(ext);
         }
-        let format = symphonia::default::get_probe()
-            .probe(
-                &hint,
-                mss,
-                FormatOptions::default(),
-                MetadataOptions::default(),
-            )
-            .map_err(|e| unsupported(e.to_string()))?;
-        let track = format
-            .default_track(TrackType::Audio)
-            .ok_or_else(|| unsupported("no audio track".into()))?;
-        let track_id = track.id;
-        let total_frames = track.num_frames;
-        let params = track
-            .codec_params
-            .as_ref()
-            .and_then(|p| p.audio())
-            .ok_or_else(|| unsupported("no audio codec parameters".into()))?;
-        let sample_rate_hz = params.sample_rate.unwrap_or(0);
-        let decoder = symphonia::default::get_codecs()
-            .make_audio_decoder(params, &AudioDecoderOptions::default())
-            .map_err(|e| unsupported(e.to_string()))?;
+        // Codec libraries can panic on a damaged stream: that is a corrupt file, not a crash.
+        let (format, decoder, track_id, total_frames, sample_rate_hz) =
+            crate::guard::guarded(path, || {
+                let format = symphonia::default::get_probe()
+                    .probe(
+                        &hint,
+                        mss,
+                        FormatOptions::default(),
+                        MetadataOptions::default(),
+                    )
+                    .map_err(|e| unsupported(e.to_string()))?;
+                let track = format
+                    .default_track(TrackType::Audio)
+                    .ok_or_else(|| unsupported("no audio track".into()))?;
+                let track_id = track.id;
+                let total_frames = track.num_frames;
+                let params = track
+                    .codec_params
+                    .as_ref()
+                    .and_then(|p| p.audio())
+                    .ok_or_else(|| unsupported("no audio codec parameters".into()))?;
+                let sample_rate_hz = params.sample_rate.unwrap_or(0);
+                let decoder = symphonia::default::get_codecs()
+                    .make_audio_decoder(params, &AudioDecoderOptions::default())
+                    .map_err(|e| unsupported(e.to_string()))?;
+                Ok((format, decoder, track_id, total_frames, sample_rate_hz))
+            })?;
         let mut reader = Self {
             path: path.into(),
             format,
@@ -181,8 +186,18 @@ impl AudioReader {
         Ok(n)
     }
 
-    /// Decodes packets until one adds samples to `pending` or the stream ends.
+    /// [`Self::decode_packets`] under the panic guard; after a caught panic the stream ends.
     fn decode_next(&mut self) -> Result<()> {
+        let path = self.path.clone();
+        let r = crate::guard::guarded(&path, || self.decode_packets());
+        if r.is_err() {
+            self.finished = true;
+        }
+        r
+    }
+
+    /// Decodes packets until one adds samples to `pending` or the stream ends.
+    fn decode_packets(&mut self) -> Result<()> {
         let mut bad_in_a_row = 0usize;
         let mut last_decode_error = String::new();
         let corrupt = |path: &Path, reason: String| DspError::Corrupt {

@@ -163,6 +163,18 @@ fn corrupt_mp3_never_panics() {
 }
 
 #[test]
+fn a_stream_that_panics_the_vorbis_decoder_is_a_corrupt_file() {
+    // Found by `input-fuzz ogg` (seed 20261126, mutant 622 of the a440 Ogg fixture): the
+    // codebook setup asserts inside the codec library.
+    let err = load_audio(fixture("vorbis_codebook_panic.ogg")).unwrap_err();
+    assert!(matches!(err, DspError::Corrupt { .. }), "{err}");
+    assert!(
+        err.to_string().contains("vorbis_codebook_panic.ogg"),
+        "{err}"
+    );
+}
+
+#[test]
 fn nan_samples_are_rejected() {
     let dir = tempfile::tempdir().unwrap();
     let p = dir.path().join("nan.wav");
