@@ -41,6 +41,7 @@ const LAYERS: &[(&str, u32)] = &[
     ("violin-skeleton", 40),
     ("corpus", 50),
     ("violin-train", 51),
+    ("input-fuzz", 51),
     ("violin-skeleton-cli", 52),
 ];
 
