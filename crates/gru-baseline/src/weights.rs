@@ -236,6 +236,7 @@ impl GruBaseline {
         }
         tensors.sort_by(|a, b| a.0.cmp(&b.0));
         safetensors::serialize(tensors.iter().map(|(n, t)| (n.as_str(), t)), Some(meta))
+            .map(net_core::file::canonical_header)
             .map_err(|e| GruError::Config(format!("cannot serialise the weights ({e})")))
     }
 

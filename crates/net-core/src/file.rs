@@ -125,7 +125,42 @@ pub fn encode(tensors: &[(String, Tensor)], metadata: HashMap<String, String>) -
         views.push((name.clone(), view));
     }
     safetensors::serialize(views, Some(metadata))
+        .map(canonical_header)
         .map_err(|e| StoreError::Config(format!("safetensors: {e}")))
+}
+
+/// The same safetensors bytes with the JSON header's keys sorted (metadata included), so
+/// that the same weights and metadata always give the same file, byte for byte (the
+/// safetensors writer takes the metadata as a `HashMap`, whose order changes from run to
+/// run). The header stays padded with spaces to a multiple of 8 bytes; bytes that are not
+/// a readable header are returned unchanged.
+pub fn canonical_header(bytes: Vec<u8>) -> Vec<u8> {
+    let Some(len_bytes) = bytes.get(..8) else {
+        return bytes;
+    };
+    let mut n = [0u8; 8];
+    n.copy_from_slice(len_bytes);
+    let Ok(n) = usize::try_from(u64::from_le_bytes(n)) else {
+        return bytes;
+    };
+    let Some(header) = n.checked_add(8).and_then(|end| bytes.get(8..end)) else {
+        return bytes;
+    };
+    // serde_json's map is ordered by key (no `preserve_order`), so this sorts every level.
+    let Ok(value) = serde_json::from_slice::<serde_json::Value>(header) else {
+        return bytes;
+    };
+    let Ok(mut sorted) = serde_json::to_vec(&value) else {
+        return bytes;
+    };
+    while sorted.len() % 8 != 0 {
+        sorted.push(b' ');
+    }
+    let mut out = Vec::with_capacity(bytes.len() + 8);
+    out.extend_from_slice(&(sorted.len() as u64).to_le_bytes());
+    out.extend_from_slice(&sorted);
+    out.extend_from_slice(&bytes[8 + n..]);
+    out
 }
 
 /// Parses safetensors bytes (f32 tensors only); `path` names the source in errors.

@@ -221,3 +221,25 @@ fn band_statistics_ignore_extra_bands_and_floor_the_deviation() {
     let (mean, _) = net_core::band_statistics(std::iter::empty(), 2);
     assert_eq!(mean, vec![0.0, 0.0]);
 }
+
+#[test]
+fn the_same_weights_and_metadata_give_the_same_bytes() {
+    let t = Tensor::from_vec(vec![1f32, 2.0, 3.0], 3, &Device::Cpu).unwrap();
+    let meta: HashMap<String, String> = (0..16)
+        .map(|k| (format!("key{k}"), k.to_string()))
+        .collect();
+    let a = encode(&[("w".into(), t.clone())], meta.clone()).unwrap();
+    // A map built in another order (and with another hasher state) gives the same file.
+    let rebuilt: HashMap<String, String> = (0..16)
+        .rev()
+        .map(|k| (format!("key{k}"), k.to_string()))
+        .collect();
+    assert_eq!(rebuilt, meta);
+    let b = encode(&[("w".into(), t)], rebuilt).unwrap();
+    assert_eq!(a, b);
+    let parsed = decode(&a, Path::new("x")).unwrap();
+    assert_eq!(parsed.metadata.get("key7").map(String::as_str), Some("7"));
+    assert_eq!(u64::from_le_bytes(a[..8].try_into().unwrap()) % 8, 0);
+    // Bytes that are no safetensors file pass through unchanged.
+    assert_eq!(file::canonical_header(b"abc".to_vec()), b"abc".to_vec());
+}
