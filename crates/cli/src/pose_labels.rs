@@ -18,7 +18,10 @@ use crate::Reporter;
 /// Where a run of detected frames puts its bow change.
 #[derive(Debug, Clone, Copy, ValueEnum)]
 pub enum ChangePointArg {
-    /// The frame where the mean velocity after it differs most from the mean before (default).
+    /// The knot of the broken line that fits the smoothed wrist track best around the run
+    /// (default).
+    Hinge,
+    /// The frame where the mean velocity after it differs most from the mean before.
     VelocityStep,
     /// The frame where the smoothed wrist track turns.
     Extremum,
@@ -84,7 +87,7 @@ pub struct PoseLabelsArgs {
     /// Longest gap (frames) of a missing joint that is filled by interpolation.
     #[arg(long, default_value_t = 15)]
     pub max_gap_frames: usize,
-    /// Where a run of detected frames puts its bow change [default: velocity-step; run-centre
+    /// Where a run of detected frames puts its bow change [default: hinge; run-centre
     /// with --axis y, as the original].
     #[arg(long, value_enum)]
     pub change_point: Option<ChangePointArg>,
@@ -140,7 +143,8 @@ pub fn run(args: &PoseLabelsArgs, report: &Reporter) -> Result<(), CliError> {
         BowArmArg::Right => BowArmChoice::Right,
     };
     cfg.labels.change_point = match (args.change_point, args.axis) {
-        (None, AxisArg::Bow) | (Some(ChangePointArg::VelocityStep), _) => ChangePoint::VelocityStep,
+        (None, AxisArg::Bow) | (Some(ChangePointArg::Hinge), _) => ChangePoint::Hinge,
+        (Some(ChangePointArg::VelocityStep), _) => ChangePoint::VelocityStep,
         (None, AxisArg::Y) | (Some(ChangePointArg::RunCentre), _) => ChangePoint::RunCentre,
         (Some(ChangePointArg::Extremum), _) => ChangePoint::Extremum,
     };

@@ -161,8 +161,12 @@ pub enum ChangePoint {
     /// The frame inside the run where the mean velocity of the context after it differs most
     /// from the mean velocity before it: the corner of the track, found from 2 × context
     /// frames of velocity, so jitter moves it less than the extremum.
-    #[default]
     VelocityStep,
+    /// The knot of the continuous broken line that fits the low-passed track best over
+    /// `hinge_window_s` before and after the run, not past the neighbouring changes (least
+    /// squares): every frame of both strokes counts, so pixel jitter moves it least.
+    #[default]
+    Hinge,
 }
 
 /// Which coordinate of the bowing wrist the rule labels.
@@ -215,6 +219,8 @@ pub struct LabelConfig {
     pub context_s: f64,
     /// Both mean speeds must exceed this, in performer sizes (torso lengths) per second.
     pub threshold_size_per_s: f64,
+    /// [`ChangePoint::Hinge`]: seconds of track fitted before and after a run of detections.
+    pub hinge_window_s: f64,
     /// [`AxisMode::Y`]: median window (odd) applied to the velocity, frames.
     pub velocity_median_window: usize,
     /// [`AxisMode::Y`]: frames averaged before and after a candidate frame.
@@ -237,6 +243,7 @@ impl Default for LabelConfig {
             velocity_median_s: 0.4,
             context_s: 1.0 / 3.0,
             threshold_size_per_s: 0.12,
+            hinge_window_s: 2.0 / 3.0,
             velocity_median_window: 15,
             context_frames: 10,
             threshold_px_per_frame: 1.0,
@@ -302,6 +309,7 @@ impl LabelConfig {
             ("axis_window_s", self.axis_window_s),
             ("velocity_median_s", self.velocity_median_s),
             ("context_s", self.context_s),
+            ("hinge_window_s", self.hinge_window_s),
         ] {
             if !(v.is_finite() && v > 0.0) {
                 return bad(format!("labels.{name} must be positive, got {v}"));

@@ -11,11 +11,12 @@
 //!    `k` frames after it (`k` = 1/3 s, or 10 frames with `Y`) both exceed the threshold
 //!    (0.12 performer sizes per second, or 1 px per frame with `Y`) in magnitude and have
 //!    opposite signs;
-//! 5. each run of consecutive detections becomes one change frame: by default the frame in
-//!    the run where the mean velocity after it differs most from the mean before it
-//!    ([`ChangePoint::VelocityStep`]); or where the low-passed track turns
-//!    ([`ChangePoint::Extremum`]); or the run's centre ([`ChangePoint::RunCentre`], SPEC's
-//!    wording).
+//! 5. each run of consecutive detections becomes one change frame: by default the knot of
+//!    the broken line that fits the low-passed track best over 2/3 s before and after the run
+//!    (not past the neighbouring changes, [`ChangePoint::Hinge`]); or the frame where the mean
+//!    velocity after it differs most from the mean before it ([`ChangePoint::VelocityStep`]);
+//!    or where the low-passed track turns ([`ChangePoint::Extremum`]); or the run's centre
+//!    ([`ChangePoint::RunCentre`], SPEC's wording).
 
 use dsp_mel::filters::{filtfilt, median_filter, Butterworth, EdgeMode};
 use serde::{Deserialize, Serialize};
@@ -25,6 +26,7 @@ use crate::axis::{
     find_bow_arm, performer_size_px, project, windowed_axis, wrist_relative_to_neck, Arm,
 };
 use crate::config::{AxisMode, BowArmChoice, ChangePoint, LabelConfig};
+use crate::corner::{best_knot, HingeSums};
 use crate::error::{PosePreprocError, Result};
 
 /// Fewest frames a clip needs for labels with `cfg`: the zero-phase filter pads
@@ -63,6 +65,8 @@ pub struct RuleFrames {
     pub context: usize,
     /// Threshold on both mean velocities, track units per frame.
     pub threshold: f64,
+    /// Frames before and after a run that [`ChangePoint::Hinge`] fits.
+    pub fit: usize,
 }
 
 impl RuleFrames {
@@ -78,6 +82,7 @@ impl RuleFrames {
             median_window,
             context,
             threshold,
+            fit: ((cfg.hinge_window_s * fps).round() as usize).max(2),
         }
     }
 }
@@ -124,12 +129,24 @@ fn change_points(
     runs: &[(usize, usize)],
     filtered: &[f64],
     velocity: &[f64],
-    context: usize,
+    (context, fit): (usize, usize),
     mode: ChangePoint,
 ) -> Vec<usize> {
+    let sums = &HingeSums::new(filtered);
+    let centre = |i: usize| runs.get(i).map(|&(a, b)| (a + b) / 2);
     runs.iter()
-        .map(|&(first, last)| match mode {
+        .enumerate()
+        .map(|(i, &(first, last))| match mode {
             ChangePoint::RunCentre => (first + last) / 2,
+            ChangePoint::Hinge => {
+                // The context around the run, but not past the neighbouring changes.
+                let lo = (first.saturating_sub(fit))
+                    .max(i.checked_sub(1).and_then(centre).map_or(0, |c| c + 2));
+                let hi = (last + fit + 1).min(centre(i + 1).map_or(usize::MAX, |c| c - 1));
+                let pad = context / 2;
+                let cands = (first.saturating_sub(pad), last + pad);
+                best_knot(sums, (lo, hi), cands, (first + last) / 2)
+            }
             ChangePoint::VelocityStep => {
                 // The frame where the mean velocity of the `context` frames after it differs
                 // most from that of the `context` frames before it.
@@ -182,7 +199,7 @@ pub fn bow_changes_from_track(
         &runs,
         &filtered,
         &velocity,
-        rule.context,
+        (rule.context, rule.fit),
         cfg.change_point,
     ))
 }
@@ -345,6 +362,7 @@ mod tests {
             ChangePoint::Extremum,
             ChangePoint::RunCentre,
             ChangePoint::VelocityStep,
+            ChangePoint::Hinge,
         ] {
             let cfg = LabelConfig {
                 change_point: mode,

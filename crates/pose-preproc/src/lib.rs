@@ -31,6 +31,7 @@
 
 pub mod axis;
 mod config;
+mod corner;
 mod error;
 pub mod fill;
 pub mod labels;

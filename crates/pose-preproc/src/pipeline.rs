@@ -13,7 +13,7 @@ use crate::labels::{label_motion, BowLabels};
 use crate::performer::select_performer;
 use crate::quality::QualityReport;
 use crate::read::{read_openpose_dir, Detection, RawPoses};
-use crate::swap::fix_left_right_swaps;
+use crate::swap::{fix_left_right_swaps_within, MAX_SWAP_S};
 
 /// The cleaned skeleton of a video, its bow changes, and how clean the input was.
 #[derive(Debug, Clone, PartialEq)]
@@ -69,7 +69,9 @@ pub fn preprocess_poses(raw: &RawPoses, cfg: &PreprocConfig) -> Result<PoseTrack
         .zip(&raw.frames)
         .map(|(c, people)| c.and_then(|i| people.get(i)).copied())
         .collect();
-    let left_right_swaps_fixed = fix_left_right_swaps(&mut performer, threshold);
+    let max_swap_frames = ((cfg.fps * MAX_SWAP_S).round() as usize).max(1);
+    let left_right_swaps_fixed =
+        fix_left_right_swaps_within(&mut performer, threshold, max_swap_frames);
     let wrist_confidence: Vec<[f32; 2]> = performer
         .iter()
         .map(|d| {

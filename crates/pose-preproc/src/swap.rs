@@ -8,9 +8,13 @@
 //! frame where the pair's joints are confident, the pair is swapped when the swapped
 //! assignment lies less than half as far from the pair's last known positions as the given
 //! one (both joints, or the one that is confident), so that jitter on two nearby joints does
-//! not swap them. The decisions form a chain from the first frame, so afterwards the
-//! labelling that holds in the majority of frames is kept: when most frames of a pair were
-//! swapped, the chain started on a swapped frame and every decision of that pair is inverted.
+//! not swap them. The decisions form a chain from the first frame: a swap whose start was
+//! missed (the joints overlapped) but whose end was seen would invert the rest of the clip.
+//! Estimators swap only briefly, so the chain is cut into runs of equal decisions: a run
+//! longer than `max_swap_frames` is the true labelling whatever the chain says, and a short
+//! run is swapped back only when it differs from the long run before it (or, at the start,
+//! after it). A wrong decision thus costs at most the frames of one swap. Without any long
+//! run, the labelling that holds in the majority of frames is kept.
 
 use skeleton::Joint;
 
@@ -32,16 +36,59 @@ fn dist(a: [f32; 2], b: [f32; 2]) -> f32 {
     (a[0] - b[0]).hypot(a[1] - b[1])
 }
 
-/// Swaps detected left/right joints back (see the module documentation). Returns the number
-/// of joint-pair frames swapped.
+/// Longest left/right swap of a pose estimator, seconds (see the module documentation).
+pub const MAX_SWAP_S: f64 = 1.0;
+
+/// [`fix_left_right_swaps_within`] with swaps of at most 30 frames (1 s at 30 fps).
 pub fn fix_left_right_swaps(performer: &mut [Option<Detection>], threshold: f32) -> usize {
+    fix_left_right_swaps_within(performer, threshold, 30)
+}
+
+/// Per known frame, whether to swap it, given the chain's decisions `chain` on those frames
+/// (at `frames`, increasing): runs spanning at least `max_swap_frames` frames are the true
+/// labelling; shorter runs are swapped when they differ from the long run before them (the
+/// one after them at the start); without long runs, the minority is swapped.
+fn final_swaps(chain: &[bool], frames: &[usize], max_swap_frames: usize) -> Vec<bool> {
+    let mut runs: Vec<(usize, usize)> = Vec::new();
+    for i in 0..chain.len() {
+        match runs.last_mut() {
+            Some(run) if chain[run.0] == chain[i] => run.1 = i,
+            _ => runs.push((i, i)),
+        }
+    }
+    let long = |&(a, b): &(usize, usize)| frames[b] - frames[a] + 1 >= max_swap_frames;
+    let Some(first_long) = runs.iter().find(|r| long(r)) else {
+        let count = chain.iter().filter(|s| **s).count();
+        let invert = 2 * count > chain.len();
+        return chain.iter().map(|&s| s != invert).collect();
+    };
+    let mut reference = chain[first_long.0];
+    let mut out = vec![false; chain.len()];
+    for run in &runs {
+        if long(run) {
+            reference = chain[run.0];
+        }
+        for slot in &mut out[run.0..=run.1] {
+            *slot = chain[run.0] != reference;
+        }
+    }
+    out
+}
+
+/// Swaps detected left/right joints back (see the module documentation); an estimator's swap
+/// lasts at most `max_swap_frames`. Returns the number of joint-pair frames swapped.
+pub fn fix_left_right_swaps_within(
+    performer: &mut [Option<Detection>],
+    threshold: f32,
+    max_swap_frames: usize,
+) -> usize {
     let ok = |c: f32| c >= threshold && c > 0.0;
     let mut swapped_frames = 0;
     for (r, l) in PAIRS {
         let (r, l) = (r.index(), l.index());
         let mut last: [Option<[f32; 2]>; 2] = [None, None];
         let mut swap = vec![false; performer.len()];
-        let mut known = 0usize;
+        let mut known: Vec<usize> = Vec::new();
         for (t, d) in performer.iter().enumerate() {
             let Some(d) = d else { continue };
             let (pr, pl) = (d.joints[r], d.joints[l]);
@@ -65,17 +112,13 @@ pub fn fix_left_right_swaps(performer: &mut [Option<Detection>], threshold: f32)
                 last[1] = Some(nl);
             }
             if cr || cl {
-                known += 1;
+                known.push(t);
             }
         }
-        let count = swap.iter().filter(|s| **s).count();
-        let invert = 2 * count > known;
-        for (t, d) in performer.iter_mut().enumerate() {
-            let Some(d) = d else { continue };
-            if !(ok(d.joints[r][2]) || ok(d.joints[l][2])) {
-                continue;
-            }
-            if swap[t] != invert {
+        let chain: Vec<bool> = known.iter().map(|&t| swap[t]).collect();
+        let fixed = final_swaps(&chain, &known, max_swap_frames.max(1));
+        for (&t, _) in known.iter().zip(fixed).filter(|(_, f)| *f) {
+            if let Some(d) = performer.get_mut(t).and_then(Option::as_mut) {
                 d.joints.swap(r, l);
                 swapped_frames += 1;
             }
@@ -124,5 +167,24 @@ mod tests {
         }
         assert_eq!(fix_left_right_swaps(&mut seen, 0.05), 20);
         assert_eq!(seen, truth);
+    }
+
+    #[test]
+    fn a_swap_whose_start_was_missed_costs_only_its_own_frames() {
+        // Chain: the swap of frames 40..44 was missed at its start but its end was seen,
+        // so the chain says "swapped" from frame 44 to the end.
+        let frames: Vec<usize> = (0..100).collect();
+        let chain: Vec<bool> = frames.iter().map(|&t| t >= 44).collect();
+        assert!(final_swaps(&chain, &frames, 30).iter().all(|s| !s));
+        // A short swap inside long runs is undone; the long runs are kept.
+        let chain: Vec<bool> = frames.iter().map(|&t| (40..45).contains(&t)).collect();
+        let fixed = final_swaps(&chain, &frames, 30);
+        assert_eq!(fixed, chain);
+        // No long run: the majority labelling is kept.
+        let chain = [true, true, false];
+        assert_eq!(
+            final_swaps(&chain, &[0, 1, 2], 30),
+            vec![false, false, true]
+        );
     }
 }
