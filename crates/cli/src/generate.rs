@@ -140,7 +140,7 @@ pub struct AnalysisWeights {
     #[arg(long)]
     pub emotion_weights: Option<PathBuf>,
     /// Beat tracker: `learned` (beat-net activation + bar-pointer decoding) or `classic`
-    /// (onset tempogram + dynamic programming, the tracker before issue 20).
+    /// (onset tempogram + dynamic programming; no learned weights).
     #[arg(long, value_enum, default_value_t = BeatArg::Learned)]
     pub beats: BeatArg,
 }
