@@ -44,6 +44,16 @@ pub enum Error {
         /// The shortest length accepted, in seconds.
         min_s: f64,
     },
+    /// The recording is longer than the pipeline accepts.
+    #[error("{source_name}: lasts {duration_s:.0} s, more than the {max_s:.0} s accepted; cut it or raise --max-duration")]
+    TooLong {
+        /// The file.
+        source_name: String,
+        /// Its length in seconds (or how far it was read).
+        duration_s: f64,
+        /// The longest length accepted, in seconds.
+        max_s: f64,
+    },
     /// A network failed or its weights do not fit.
     #[error("{0}")]
     Network(String),

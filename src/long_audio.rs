@@ -12,7 +12,7 @@ use std::time::Instant;
 use dsp_mel::{Audio, AudioReader};
 use skeleton::Motion;
 
-use crate::chunking::Chunking;
+use crate::chunking::{check_length, Chunking};
 use crate::error::{Error, Result};
 use crate::pipeline::{Method, Pipeline, StageTimings};
 use performance::{Analysis, ArousalCurve, BowStroke, F0Track, Note};
@@ -181,6 +181,7 @@ impl Pipeline {
         let total_s = reader
             .total_samples_hint()
             .map(|n| n as f64 / f64::from(rate));
+        check_length(self.max_duration(), path, total_s.unwrap_or(0.0))?;
         let mut notes = Vec::new();
         let mut f0 = F0Track {
             hop_s: 0.0,
@@ -199,6 +200,7 @@ impl Pipeline {
         // (confidence, seconds) of every chunk that has one.
         let mut confidences: Vec<(f64, f64)> = Vec::new();
         let (duration_s, decode_s) = for_each_chunk(&mut reader, self.chunking(), |chunk| {
+            check_length(self.max_duration(), path, chunk.core_end_s)?;
             let (a, t) = self
                 .analyze_timed(&chunk.audio)
                 .map_err(|e| name_file(e, path))?;
@@ -293,10 +295,12 @@ impl Pipeline {
         let total_s = reader
             .total_samples_hint()
             .map(|n| n as f64 / f64::from(reader.sample_rate_hz()));
+        check_length(self.max_duration(), path, total_s.unwrap_or(0.0))?;
         let mut frames: Vec<f32> = Vec::new();
         let mut first: Option<Motion> = None;
         let mut fps = 30.0;
         for_each_chunk(&mut reader, self.chunking(), |chunk| {
+            check_length(self.max_duration(), path, chunk.core_end_s)?;
             let m = self
                 .generate(&chunk.audio)
                 .map_err(|e| name_file(e, path))?;

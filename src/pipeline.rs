@@ -68,6 +68,7 @@ pub struct Pipeline {
     style: FingeringStyle,
     sul: Vec<SulSpan>,
     transpose_into_range: bool,
+    max_duration_s: Option<u32>,
     synth: SynthConfig,
     bowing_weights: Option<PathBuf>,
     bowing_network: BowingNetwork,
@@ -120,6 +121,15 @@ impl PipelineBuilder {
     /// the file.
     pub fn transpose_into_range(mut self, yes: bool) -> Self {
         self.inner.transpose_into_range = yes;
+        self
+    }
+
+    /// Refuse inputs longer than this many seconds: audio whose container announces a longer
+    /// length (or that runs past it while being read) and MIDI files whose notes sound past
+    /// it. Default: audio of any length (it is analysed in pieces), MIDI up to
+    /// [`performance::midi::MAX_DURATION_S`].
+    pub fn max_duration_s(mut self, seconds: u32) -> Self {
+        self.inner.max_duration_s = Some(seconds);
         self
     }
 
@@ -209,9 +219,16 @@ impl Pipeline {
 
     /// The MIDI reading options.
     #[cfg(feature = "midi")]
+    /// The longest input accepted ([`PipelineBuilder::max_duration_s`]), if any.
+    pub(crate) fn max_duration(&self) -> Option<f64> {
+        self.max_duration_s.map(f64::from)
+    }
+
     pub(crate) fn midi_options(&self) -> performance::midi::MidiOptions {
+        let defaults = performance::midi::MidiOptions::default();
         performance::midi::MidiOptions {
             transpose_into_range: self.transpose_into_range,
+            max_duration_s: self.max_duration_s.unwrap_or(defaults.max_duration_s),
         }
     }
 

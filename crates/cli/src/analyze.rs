@@ -23,6 +23,7 @@ use crate::contract::{check_outputs, named};
 use crate::error::CliError;
 use crate::fingering_args::FingeringArgs;
 use crate::generate::{is_midi, with_input, AnalysisWeights};
+use crate::limits::InputLimits;
 use crate::output::write_atomically;
 use crate::Reporter;
 
@@ -47,6 +48,9 @@ pub struct AnalyzeArgs {
     /// Fingering planner and style.
     #[command(flatten)]
     pub fingering: FingeringArgs,
+    /// Input limits.
+    #[command(flatten)]
+    pub limits: InputLimits,
 }
 
 /// Runs `analyze`.
@@ -62,8 +66,11 @@ pub fn run(args: &AnalyzeArgs, report: &Reporter) -> Result<(), CliError> {
     inputs.extend(args.weights.inputs());
     check_outputs(&inputs, &[named("-o", &args.output)])?;
     let pipeline = args
-        .fingering
-        .apply(args.weights.apply(Pipeline::builder()))
+        .limits
+        .apply(
+            args.fingering
+                .apply(args.weights.apply(Pipeline::builder())),
+        )
         .build();
     if is_midi(&args.input) {
         return run_midi(args, &pipeline, report);

@@ -11,6 +11,7 @@ use violin_skeleton::{Method, Motion, MotionFormat, Pipeline, PipelineBuilder};
 use crate::contract::{check_outputs, named, refuse_stdout_folder, NamedPath};
 use crate::error::CliError;
 use crate::fingering_args::FingeringArgs;
+use crate::limits::InputLimits;
 use crate::preview::{check_preview_name, write_preview, SoundSource};
 use crate::Reporter;
 
@@ -77,6 +78,9 @@ pub struct GenerateArgs {
     /// Fingering planner and style.
     #[command(flatten)]
     pub fingering: FingeringArgs,
+    /// Input limits.
+    #[command(flatten)]
+    pub limits: InputLimits,
     /// Also write a preview: `.gif` or `.html` (a player with the sound: audio up to 2 MiB
     /// embedded, larger audio linked beside the page, MIDI notes synthesized in the browser).
     #[arg(long)]
@@ -217,6 +221,15 @@ pub fn pipeline_for(
     fingering: &FingeringArgs,
     weights: &NetworkWeights,
 ) -> Pipeline {
+    pipeline_builder_for(method, fingering, weights).build()
+}
+
+/// [`pipeline_for`]'s builder, for commands that set more.
+pub fn pipeline_builder_for(
+    method: MethodArg,
+    fingering: &FingeringArgs,
+    weights: &NetworkWeights,
+) -> PipelineBuilder {
     let mut builder = fingering.apply(Pipeline::builder().method(match method {
         MethodArg::Rules => Method::Rules,
         MethodArg::Gru => Method::Gru,
@@ -225,7 +238,7 @@ pub fn pipeline_for(
     if let Some(p) = &weights.gru_weights {
         builder = builder.gru_weights(p);
     }
-    builder.build()
+    builder
 }
 
 /// Runs `generate`.
@@ -240,7 +253,14 @@ pub fn run(args: &GenerateArgs, report: &Reporter) -> Result<(), CliError> {
         }
     };
     check_generate_paths(args, format)?;
-    let pipeline = pipeline_for(args.method, &args.fingering, &args.weights);
+    let pipeline = args
+        .limits
+        .apply(pipeline_builder_for(
+            args.method,
+            &args.fingering,
+            &args.weights,
+        ))
+        .build();
     let t0 = Instant::now();
     let mut timings_line = String::new();
     let mut midi_notes = Vec::new();

@@ -12,6 +12,7 @@ mod evaluate;
 mod features;
 mod fingering_args;
 mod generate;
+mod limits;
 mod output;
 mod pose_labels;
 mod preview;

@@ -303,3 +303,52 @@ fn a_file_that_panics_a_codec_gives_one_line_and_exit_1() {
     );
     assert!(!out.exists());
 }
+
+#[test]
+fn inputs_longer_than_max_duration_are_refused_in_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let mid = dir.path().join("piece.mid");
+    write_midi(&mid, 16); // 8 s
+    let wav = dir.path().join("rec.wav");
+    write_wav(&wav, 2.0);
+    let out = dir.path().join("m.json");
+    let r = run(&[
+        os("generate"),
+        mid.as_os_str(),
+        os("-o"),
+        out.as_os_str(),
+        os("--max-duration"),
+        os("5"),
+    ]);
+    assert_eq!(r.status.code(), Some(1), "{}", stderr(&r));
+    assert!(stderr(&r).contains("--max-duration") && stderr(&r).trim().lines().count() == 1);
+    let r = run(&[
+        os("analyze"),
+        wav.as_os_str(),
+        os("-o"),
+        out.as_os_str(),
+        os("--max-duration"),
+        os("1"),
+    ]);
+    assert_eq!(r.status.code(), Some(1), "{}", stderr(&r));
+    assert!(stderr(&r).contains("rec.wav: lasts 2 s"), "{}", stderr(&r));
+    assert!(!out.exists());
+    let r = run(&[
+        os("analyze"),
+        wav.as_os_str(),
+        os("-o"),
+        out.as_os_str(),
+        os("--max-duration"),
+        os("0"),
+    ]);
+    assert_eq!(r.status.code(), Some(2), "{}", stderr(&r));
+    let r = run(&[
+        os("generate"),
+        mid.as_os_str(),
+        os("-o"),
+        out.as_os_str(),
+        os("--max-duration"),
+        os("9"),
+    ]);
+    assert!(r.status.success(), "{}", stderr(&r));
+}

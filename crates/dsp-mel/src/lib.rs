@@ -41,7 +41,7 @@ pub use guard::inside_decoder_guard;
 pub use mel::{pool_frames, MelSpectrogram};
 pub use resample::{load_audio_at, resample};
 pub use stft::{Stft, StftFloat};
-pub use stream::AudioReader;
+pub use stream::{AudioReader, MAX_FILE_RATE_HZ, MIN_FILE_RATE_HZ};
 
 /// The README's example, compiled and run as a doctest.
 #[cfg(doctest)]

@@ -13,6 +13,11 @@ use symphonia::core::meta::MetadataOptions;
 
 use crate::error::{DspError, Result};
 
+/// The lowest sample rate a file may declare, Hz.
+pub const MIN_FILE_RATE_HZ: u32 = 4_000;
+/// The highest sample rate a file may declare, Hz.
+pub const MAX_FILE_RATE_HZ: u32 = 768_000;
+
 /// How many undecodable packets in a row we skip before calling the file corrupt.
 const MAX_CONSECUTIVE_BAD_PACKETS: usize = 16;
 
@@ -139,6 +144,19 @@ impl AudioReader {
             return Err(DspError::Corrupt {
                 path: path.into(),
                 reason: "sample rate is 0".into(),
+            });
+        }
+        // A header that says 1 Hz makes a 60 kB file last nine hours, and resampling it to
+        // the analysis rate would take minutes and gigabytes (found by input-fuzz).
+        if !(MIN_FILE_RATE_HZ..=MAX_FILE_RATE_HZ).contains(&reader.sample_rate_hz) {
+            return Err(DspError::Corrupt {
+                path: path.into(),
+                reason: format!(
+                    "its header gives a sample rate of {} Hz, outside the {} Hz – {} kHz of audio recordings; the file is damaged or not audio",
+                    reader.sample_rate_hz,
+                    MIN_FILE_RATE_HZ,
+                    MAX_FILE_RATE_HZ / 1000
+                ),
             });
         }
         Ok(reader)

@@ -175,6 +175,25 @@ fn a_stream_that_panics_the_vorbis_decoder_is_a_corrupt_file() {
 }
 
 #[test]
+fn a_header_sample_rate_outside_audio_rates_is_a_corrupt_file() {
+    // Found by `input-fuzz all --iterations 2000 --seed 7`: a WAV whose header says 1 Hz
+    // lasted 33 075 s and took 8 minutes to resample. 1 Hz and 3 999 Hz are refused at open,
+    // 4 kHz is read.
+    let dir = tempfile::tempdir().unwrap();
+    for (rate, ok) in [(1u32, false), (3_999, false), (4_000, true)] {
+        let p = dir.path().join(format!("r{rate}.wav"));
+        write_wav(&p, &vec![0.1f32; 2_000], rate);
+        match load_audio(&p) {
+            Ok(a) => assert!(ok && a.sample_rate_hz() == rate),
+            Err(e) => {
+                assert!(!ok, "{rate} Hz: {e}");
+                assert!(e.to_string().contains(&format!("{rate} Hz")), "{e}");
+            }
+        }
+    }
+}
+
+#[test]
 fn nan_samples_are_rejected() {
     let dir = tempfile::tempdir().unwrap();
     let p = dir.path().join("nan.wav");

@@ -39,7 +39,7 @@ use crate::timeline::Timeline;
 pub const MAX_FILE_BYTES: u64 = 64 << 20;
 /// The most notes a file may have.
 pub const MAX_NOTES: usize = 200_000;
-/// The longest piece, in seconds.
+/// The longest piece read by default, in seconds ([`MidiOptions::max_duration_s`]).
 pub const MAX_DURATION_S: f64 = 3600.0;
 /// The longest silence before or between notes, in seconds.
 pub const MAX_SILENCE_S: f64 = 300.0;
@@ -49,10 +49,22 @@ const LOWEST: u8 = 55;
 const HIGHEST: u8 = 105;
 
 /// How a MIDI file is read.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct MidiOptions {
     /// Move notes outside G3..=A7 by octaves into the range instead of refusing the file.
     pub transpose_into_range: bool,
+    /// A file whose notes sound past this many seconds is refused (a corrupt delta time can
+    /// otherwise ask for hours of silence). Default [`MAX_DURATION_S`].
+    pub max_duration_s: u32,
+}
+
+impl Default for MidiOptions {
+    fn default() -> Self {
+        MidiOptions {
+            transpose_into_range: false,
+            max_duration_s: MAX_DURATION_S as u32,
+        }
+    }
 }
 
 const TAIL_S: f64 = 0.6;
@@ -293,7 +305,7 @@ pub fn score_from_midi(bytes: &[u8], options: &MidiOptions) -> Result<MidiScore,
             channel,
         });
     }
-    check_span(&out)?;
+    check_span(&out, f64::from(options.max_duration_s))?;
     let last_tick = notes.iter().map(|n| n.1).max().unwrap_or(0);
     let grid =
         crate::midi_line::beat_grid(&raw.signatures, &notes, ticks_per_quarter, last_tick, |t| {
@@ -326,7 +338,7 @@ fn check_tempi(map: &TempoMap) -> Result<(), MidiError> {
     Ok(())
 }
 
-fn check_span(notes: &[MidiNote]) -> Result<(), MidiError> {
+fn check_span(notes: &[MidiNote], max_duration_s: f64) -> Result<(), MidiError> {
     let mut sounding_until = 0.0f64;
     for n in notes {
         if n.onset_s - sounding_until > MAX_SILENCE_S {
@@ -337,10 +349,10 @@ fn check_span(notes: &[MidiNote]) -> Result<(), MidiError> {
             )));
         }
         sounding_until = sounding_until.max(n.offset_s);
-        if sounding_until > MAX_DURATION_S {
+        if sounding_until > max_duration_s {
             return Err(midi_err(format!(
-                "lasts more than {:.0} minutes (a note ends at {:.0} s); split it into pieces",
-                MAX_DURATION_S / 60.0,
+                "lasts more than {:.0} minutes (a note ends at {:.0} s); split it into pieces or raise --max-duration",
+                max_duration_s / 60.0,
                 sounding_until
             )));
         }

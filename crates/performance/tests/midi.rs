@@ -211,6 +211,7 @@ fn out_of_range_notes_move_by_octaves_only_when_asked() {
     );
     let opts = MidiOptions {
         transpose_into_range: true,
+        ..MidiOptions::default()
     };
     let score = score_from_midi(&low, &opts).unwrap();
     assert_eq!(
