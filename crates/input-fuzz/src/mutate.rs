@@ -2,32 +2,14 @@
 //! integers, insertions, deletions, duplications, truncation, splices) plus tokens that
 //! matter to the text formats (numbers at the edge of `f64`, brackets, quotes).
 
-/// SplitMix64: a small, fast, seeded generator; the same seed gives the same mutants.
-#[derive(Debug, Clone)]
-pub struct Rng(u64);
+pub use net_core::rng::Rng;
 
-impl Rng {
-    /// A generator from `seed`.
-    pub fn new(seed: u64) -> Rng {
-        Rng(seed ^ 0x9E37_79B9_7F4A_7C15)
-    }
-
-    /// The next 64 random bits.
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// A number in `0..n` (`0` when `n` is 0).
-    pub fn below(&mut self, n: usize) -> usize {
-        if n == 0 {
-            0
-        } else {
-            (self.next_u64() % n as u64) as usize
-        }
+/// A number in `0..n` (`0` when `n` is 0).
+pub fn below(rng: &mut Rng, n: usize) -> usize {
+    if n == 0 {
+        0
+    } else {
+        (rng.next_u64() % n as u64) as usize
     }
 }
 
@@ -66,7 +48,7 @@ const TOKENS: [&[u8]; 16] = [
 /// One mutant of `seed`: 1 to 4 stacked operators; `other` is a second seed to splice from.
 pub fn mutate(seed: &[u8], other: &[u8], rng: &mut Rng) -> Vec<u8> {
     let mut b = seed.to_vec();
-    let rounds = 1 + rng.below(4);
+    let rounds = 1 + below(rng, 4);
     for _ in 0..rounds {
         apply_one(&mut b, other, rng);
     }
@@ -75,26 +57,26 @@ pub fn mutate(seed: &[u8], other: &[u8], rng: &mut Rng) -> Vec<u8> {
 
 fn apply_one(b: &mut Vec<u8>, other: &[u8], rng: &mut Rng) {
     let len = b.len();
-    match rng.below(10) {
+    match below(rng, 10) {
         // Flip a few bits.
         0 if len > 0 => {
-            for _ in 0..1 + rng.below(8) {
-                let i = rng.below(len);
-                b[i] ^= 1 << rng.below(8);
+            for _ in 0..1 + below(rng, 8) {
+                let i = below(rng, len);
+                b[i] ^= 1 << below(rng, 8);
             }
         }
         // A random byte.
         1 if len > 0 => {
-            let i = rng.below(len);
+            let i = below(rng, len);
             b[i] = rng.next_u64() as u8;
         }
         // An interesting 32-bit integer (little or big endian), e.g. a size in a header;
         // headers are near the start, so half the time aim at the first 64 bytes.
         2 if len >= 4 => {
-            let span = if rng.below(2) == 0 { len.min(64) } else { len };
-            let i = rng.below(span.saturating_sub(3).max(1));
-            let v = INTERESTING_32[rng.below(INTERESTING_32.len())];
-            let bytes = if rng.below(2) == 0 {
+            let span = if below(rng, 2) == 0 { len.min(64) } else { len };
+            let i = below(rng, span.saturating_sub(3).max(1));
+            let v = INTERESTING_32[below(rng, INTERESTING_32.len())];
+            let bytes = if below(rng, 2) == 0 {
                 v.to_le_bytes()
             } else {
                 v.to_be_bytes()
@@ -103,28 +85,28 @@ fn apply_one(b: &mut Vec<u8>, other: &[u8], rng: &mut Rng) {
         }
         // Delete a range.
         3 if len > 1 => {
-            let i = rng.below(len);
-            let n = 1 + rng.below((len - i).min(256));
+            let i = below(rng, len);
+            let n = 1 + below(rng, (len - i).min(256));
             b.drain(i..i + n);
         }
         // Duplicate a range somewhere else.
         4 if len > 1 => {
-            let i = rng.below(len);
-            let n = 1 + rng.below((len - i).min(256));
+            let i = below(rng, len);
+            let n = 1 + below(rng, (len - i).min(256));
             let piece = b[i..i + n].to_vec();
-            let at = rng.below(b.len() + 1);
+            let at = below(rng, b.len() + 1);
             b.splice(at..at, piece);
         }
         // Truncate.
         5 => {
-            let keep = rng.below(len + 1);
+            let keep = below(rng, len + 1);
             b.truncate(keep);
         }
         // A text token.
         6 => {
-            let t = TOKENS[rng.below(TOKENS.len())];
-            let at = rng.below(len + 1);
-            if rng.below(2) == 0 || at + t.len() > len {
+            let t = TOKENS[below(rng, TOKENS.len())];
+            let at = below(rng, len + 1);
+            if below(rng, 2) == 0 || at + t.len() > len {
                 b.splice(at..at, t.iter().copied());
             } else {
                 b[at..at + t.len()].copy_from_slice(t);
@@ -132,29 +114,29 @@ fn apply_one(b: &mut Vec<u8>, other: &[u8], rng: &mut Rng) {
         }
         // Splice with the other seed.
         7 if !other.is_empty() => {
-            let cut = rng.below(len + 1);
-            let from = rng.below(other.len());
+            let cut = below(rng, len + 1);
+            let from = below(rng, other.len());
             b.truncate(cut);
             b.extend_from_slice(&other[from..]);
         }
         // Random bytes inserted.
         8 => {
-            let at = rng.below(len + 1);
-            let n = 1 + rng.below(32);
+            let at = below(rng, len + 1);
+            let n = 1 + below(rng, 32);
             let fresh: Vec<u8> = (0..n).map(|_| rng.next_u64() as u8).collect();
             b.splice(at..at, fresh);
         }
         // Replace a digit run by a huge or negative number (text formats).
         _ => {
             if let Some(i) = (0..8)
-                .map(|_| rng.below(len.max(1)))
+                .map(|_| below(rng, len.max(1)))
                 .find(|&i| i < len && b[i].is_ascii_digit())
             {
                 let mut j = i;
                 while j < len && (b[j].is_ascii_digit() || b[j] == b'.') {
                     j += 1;
                 }
-                let t: &[u8] = match rng.below(4) {
+                let t: &[u8] = match below(rng, 4) {
                     0 => b"1e300",
                     1 => b"-5",
                     2 => b"4294967296",
@@ -162,7 +144,7 @@ fn apply_one(b: &mut Vec<u8>, other: &[u8], rng: &mut Rng) {
                 };
                 b.splice(i..j, t.iter().copied());
             } else if len > 0 {
-                let i = rng.below(len);
+                let i = below(rng, len);
                 b[i] = b[i].wrapping_add(1);
             }
         }
@@ -177,10 +159,10 @@ pub fn mutate_json(seed: &[u8], other: &[u8], rng: &mut Rng) -> Vec<u8> {
     let Ok(mut value) = serde_json::from_slice::<serde_json::Value>(seed) else {
         return mutate(seed, other, rng);
     };
-    let rounds = 1 + rng.below(4);
+    let rounds = 1 + below(rng, 4);
     for _ in 0..rounds {
         let count = count_nodes(&value);
-        let target = rng.below(count);
+        let target = below(rng, count);
         let mut seen = 0;
         mutate_node(&mut value, target, &mut seen, rng);
     }
@@ -197,7 +179,7 @@ fn count_nodes(v: &serde_json::Value) -> usize {
 
 fn replacement(old: &serde_json::Value, rng: &mut Rng) -> serde_json::Value {
     use serde_json::{json, Value};
-    match rng.below(12) {
+    match below(rng, 12) {
         0 => json!(1e300),
         1 => json!(-1e300),
         2 => json!(-1),
@@ -212,11 +194,11 @@ fn replacement(old: &serde_json::Value, rng: &mut Rng) -> serde_json::Value {
             Value::Array(a) if !a.is_empty() => {
                 // Cut or repeat the array.
                 let mut a = a.clone();
-                if rng.below(2) == 0 {
-                    a.truncate(rng.below(a.len()));
+                if below(rng, 2) == 0 {
+                    a.truncate(below(rng, a.len()));
                 } else {
                     let first = a[0].clone();
-                    a.extend(std::iter::repeat_n(first, 1 + rng.below(64)));
+                    a.extend(std::iter::repeat_n(first, 1 + below(rng, 64)));
                 }
                 Value::Array(a)
             }

@@ -9,7 +9,7 @@ use std::time::{Duration, Instant};
 
 use violin_skeleton::Pipeline;
 
-use crate::mutate::{mutate, mutate_json, Rng};
+use crate::mutate::{below, mutate, mutate_json, Rng};
 use crate::seeds::SeedSet;
 use crate::targets::{run, Kind};
 
@@ -132,11 +132,11 @@ pub fn fuzz_kind(
     std::panic::set_hook(Box::new(|_| {}));
     for n in 0..settings.iterations {
         // Text formats: half the mutants keep the JSON valid and change its values.
-        let bytes = if kind.is_json() && rng.below(2) == 0 {
+        let bytes = if kind.is_json() && below(&mut rng, 2) == 0 {
             mutate_json(seed, partner, &mut rng)
         } else {
             let mut b = mutate(seed, partner, &mut rng);
-            if kind == Kind::Ogg && rng.below(4) != 0 {
+            if kind == Kind::Ogg && below(&mut rng, 4) != 0 {
                 crate::mutate::fix_ogg_crc(&mut b);
             }
             b
