@@ -5,8 +5,8 @@ use std::path::PathBuf;
 /// What is wrong with a [`crate::Performance`]: every check of [`crate::Performance::new`].
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum PerformanceError {
-    /// The duration is zero, negative or not finite.
-    #[error("duration {duration_s} s is not a positive finite number of seconds")]
+    /// The duration is zero, negative, not finite or over a day.
+    #[error("duration {duration_s} s is not a positive number of seconds up to a day (86 400 s)")]
     InvalidDuration {
         /// The duration given.
         duration_s: f64,

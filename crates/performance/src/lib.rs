@@ -52,7 +52,9 @@ mod stroke;
 mod timeline;
 mod validate;
 
-pub use crate::performance::{Performance, PerformanceBuilder, PerformanceParts};
+pub use crate::performance::{
+    Performance, PerformanceBuilder, PerformanceParts, MAX_PERFORMANCE_S,
+};
 pub use analysis::{tempo_per_beat, Analysis, F0Track, ANALYSIS_SCHEMA_VERSION};
 pub use arousal::{arousal_proxy_of_spans, ArousalCurve};
 pub use bowing::{bow_directions, BowDirection, RETAKE_REST_S};

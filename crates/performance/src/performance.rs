@@ -78,11 +78,16 @@ pub struct Performance {
     parts: PerformanceParts,
 }
 
+/// The longest performance, in seconds (24 hours).
+pub const MAX_PERFORMANCE_S: f64 = 86_400.0;
+
 impl Performance {
     /// Validates `parts` (see the type's rules) and trims overlapping notes.
     pub fn new(mut parts: PerformanceParts) -> Result<Performance, PerformanceError> {
         let d = parts.duration_s;
-        if !(d.is_finite() && d > 0.0) {
+        // A day bounds the motion a performance asks for (2.6 M frames at 30 fps); a damaged
+        // file saying 1e300 s must not reach an allocation (found by input-fuzz).
+        if !(d.is_finite() && d > 0.0 && d <= MAX_PERFORMANCE_S) {
             return Err(PerformanceError::InvalidDuration { duration_s: d });
         }
         if parts.notes.is_empty() {

@@ -15,7 +15,8 @@ fn empty_zero_and_nan_durations_are_rejected() {
         Performance::builder(3.0).build().unwrap_err(),
         PerformanceError::Empty
     );
-    for d in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+    // 1e300 s: a damaged performance JSON found by input-fuzz (it overflowed an allocation).
+    for d in [0.0, -1.0, f64::NAN, f64::INFINITY, 1e300, 86_401.0] {
         let e = Performance::builder(d)
             .note(0.0, 0.5, 60)
             .build()
