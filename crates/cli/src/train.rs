@@ -8,7 +8,7 @@ use violin_skeleton::emotion_net;
 use crate::contract::{check_outputs, named};
 use crate::error::CliError;
 use crate::train_args::{Network, TrainArgs};
-use crate::train_io::{describe, loading_bar, write_json};
+use crate::train_io::{describe, epoch_line, loading_bar, write_json};
 use crate::Reporter;
 
 /// Runs `train`.
@@ -98,26 +98,17 @@ fn train_bowing(args: &TrainArgs, report: &Reporter) -> Result<(), CliError> {
         ..defaults
     };
     let bar = report.progress(0, "epoch");
-    let mut last_f1 = String::from("–");
+    let mut last_f1 = None;
     let result = bowing_net::train(&data, &cfg, &args.out, args.resume, &mut |p| {
-        if let Some(f1) = p.val_f1 {
-            last_f1 = format!("{f1:.3}");
-        }
+        last_f1 = p.val_f1.or(last_f1);
         bar.set_length(p.steps as u64);
         bar.set_position(p.step as u64);
-        // Before the first validation there is no F1 to show (not 0.000).
-        let best = if last_f1 == "–" {
-            "–".to_string()
-        } else {
-            format!("{:.3}", p.best_f1)
-        };
-        let msg = format!(
-            "epoch {}/{} ({:.0} s) loss {:.4} val F1 {} (best {best})",
-            p.epoch + 1,
-            p.epochs,
+        let msg = epoch_line(
+            (p.epoch, p.epochs),
             p.elapsed_s,
             p.loss,
-            last_f1,
+            "F1",
+            last_f1.map(|last| (last, p.best_f1)),
         );
         if p.val_f1.is_some() && bar.is_hidden() {
             report.line(&msg);
@@ -172,25 +163,17 @@ fn train_emotion(args: &TrainArgs, report: &Reporter) -> Result<(), CliError> {
         ..defaults
     };
     let bar = report.progress(0, "epoch");
-    let mut last_r = String::from("–");
+    let mut last_r = None;
     let result = emotion_net::train(&data, &cfg, &args.out, args.resume, &mut |p| {
-        if let Some(r) = p.val_r {
-            last_r = format!("{r:.3}");
-        }
+        last_r = p.val_r.or(last_r);
         bar.set_length(p.steps as u64);
         bar.set_position(p.step as u64);
-        let best = if last_r == "–" {
-            "–".to_string()
-        } else {
-            format!("{:.3}", p.best_r)
-        };
-        let msg = format!(
-            "epoch {}/{} ({:.0} s) loss {:.4} val r {} (best {best})",
-            p.epoch + 1,
-            p.epochs,
+        let msg = epoch_line(
+            (p.epoch, p.epochs),
             p.elapsed_s,
             p.loss,
-            last_r,
+            "r",
+            last_r.map(|last| (last, p.best_r)),
         );
         if p.val_r.is_some() && bar.is_hidden() {
             report.line(&msg);
