@@ -49,7 +49,7 @@ pub fn check_outputs(inputs: &[NamedPath<'_>], outputs: &[NamedPath<'_>]) -> Res
                     "{} {}: is the same file as the {} {}; writing it would destroy the input; choose another output name",
                     out.flag,
                     out.path.display(),
-                    if input.flag == "input" { "input" } else { input.flag },
+                    input.flag,
                     input.path.display()
                 )));
             }

@@ -283,7 +283,9 @@ pub fn run(args: &GenerateArgs, report: &Reporter) -> Result<(), CliError> {
             perf.notes().len(),
             perf.bow_changes_s().len()
         );
-        midi_notes = perf.notes().to_vec();
+        if args.preview.is_some() {
+            midi_notes = perf.notes().to_vec();
+        }
         (motion, summary)
     } else {
         let bar = report.progress(1, "analysing (audio seconds)");

@@ -125,18 +125,31 @@ pub fn write_player(
     Ok(note)
 }
 
-/// Refuses a `--preview` name that is neither `.gif` nor `.html` (before any work is done).
-pub fn check_preview_name(path: &Path) -> Result<(), CliError> {
+/// The two kinds of preview.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum PreviewKind {
+    Gif,
+    Html,
+}
+
+/// The kind a `--preview` name asks for: `.gif` or `.html`/`.htm`, else a usage error.
+fn preview_kind(path: &Path) -> Result<PreviewKind, CliError> {
     let ext = path
         .extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase());
     match ext.as_deref() {
-        Some("gif") | Some("html") | Some("htm") => Ok(()),
+        Some("gif") => Ok(PreviewKind::Gif),
+        Some("html") | Some("htm") => Ok(PreviewKind::Html),
         _ => Err(CliError::Usage(format!(
             "--preview {}: use a .gif or .html file name",
             path.display()
         ))),
     }
+}
+
+/// Refuses a `--preview` name that is neither `.gif` nor `.html` (before any work is done).
+pub fn check_preview_name(path: &Path) -> Result<(), CliError> {
+    preview_kind(path).map(|_| ())
 }
 
 /// Writes a `.gif` or `.html` preview.
@@ -145,19 +158,12 @@ pub fn write_preview(
     path: &Path,
     source: SoundSource<'_>,
 ) -> Result<Option<String>, CliError> {
-    let ext = path
-        .extension()
-        .map(|e| e.to_string_lossy().to_ascii_lowercase());
-    match ext.as_deref() {
-        Some("gif") => {
+    match preview_kind(path)? {
+        PreviewKind::Gif => {
             write_gif_file(motion, path, &RenderConfig::default())?;
             Ok(None)
         }
-        Some("html") | Some("htm") => write_player(motion, path, source),
-        _ => Err(CliError::Usage(format!(
-            "--preview {}: use a .gif or .html file name",
-            path.display()
-        ))),
+        PreviewKind::Html => write_player(motion, path, source),
     }
 }
 

@@ -90,7 +90,7 @@ pub fn seed_set(scratch: &Path) -> Result<SeedSet, String> {
     // Two seconds of motion keep each OpenPose mutant cheap.
     let short = Motion::new(
         motion.fps(),
-        motion.frames().slice(ndarray::s![..60, .., ..]).to_owned(),
+        motion.frames().slice(ndarray::s![..motion.len().min(60), .., ..]).to_owned(),
     )
     .map_err(|e| e.to_string())?;
     let mut motion_files = Vec::new();
@@ -152,7 +152,7 @@ pub fn seed_set(scratch: &Path) -> Result<SeedSet, String> {
             Kind::OpenPose,
             vec![
                 openpose_frames
-                    .get(30)
+                    .get(openpose_frames.len() / 2)
                     .map(|f| f.1.clone())
                     .unwrap_or_default(),
                 motion_files[0].clone(),

@@ -36,10 +36,7 @@ pub(crate) fn read_file(path: &Path) -> Result<Vec<u8>> {
 
 /// The directory a new file or directory at `path` goes into; it must exist.
 fn parent_dir(path: &Path) -> Result<PathBuf> {
-    let dir = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
+    let dir = atomic_file::parent_dir(path);
     if !dir.is_dir() {
         return Err(format_error(
             path,
