@@ -90,7 +90,10 @@ pub fn seed_set(scratch: &Path) -> Result<SeedSet, String> {
     // Two seconds of motion keep each OpenPose mutant cheap.
     let short = Motion::new(
         motion.fps(),
-        motion.frames().slice(ndarray::s![..motion.len().min(60), .., ..]).to_owned(),
+        motion
+            .frames()
+            .slice(ndarray::s![..motion.len().min(60), .., ..])
+            .to_owned(),
     )
     .map_err(|e| e.to_string())?;
     let mut motion_files = Vec::new();
