@@ -13,13 +13,14 @@
 //! arousal from velocity and note density, f0 of the highest sounding note and
 //! `sample_rate` 0.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use clap::Args;
-use violin_skeleton::Pipeline;
+use violin_skeleton::{Analysis, Pipeline};
 
-use crate::contract::{check_outputs, named};
+use crate::batch::BatchArgs;
+use crate::contract::{check_outputs, named, refuse_stdout_folder};
 use crate::error::CliError;
 use crate::fingering_args::FingeringArgs;
 use crate::generate::{is_midi, with_input, AnalysisWeights};
@@ -33,9 +34,10 @@ use crate::Reporter;
     after_help = "Examples:\n  violin-skeleton analyze take1.wav -o analysis.json\n  violin-skeleton analyze take1.flac --f0-fps 30 -o take1_analysis.json\n  violin-skeleton analyze piece.mid -o piece_analysis.json --planner learned --sul G@12-20"
 )]
 pub struct AnalyzeArgs {
-    /// Audio file (wav, flac, mp3, ogg) or MIDI file (.mid, .midi).
+    /// Audio file (wav, flac, mp3, ogg) or MIDI file (.mid, .midi); or a folder: every such
+    /// file under it, in parallel, `NAME.json` files mirrored under `-o` (batch mode).
     pub input: PathBuf,
-    /// Output JSON file.
+    /// Output JSON file (batch mode: the output folder).
     #[arg(short, long)]
     pub output: PathBuf,
     /// Write f0 at this frame rate (e.g. 30 for the skeleton) instead of the tracker's own
@@ -51,6 +53,9 @@ pub struct AnalyzeArgs {
     /// Input limits.
     #[command(flatten)]
     pub limits: InputLimits,
+    /// Batch mode (a folder as input).
+    #[command(flatten)]
+    pub batch: BatchArgs,
 }
 
 /// Runs `analyze`.
@@ -62,16 +67,13 @@ pub fn run(args: &AnalyzeArgs, report: &Reporter) -> Result<(), CliError> {
             )));
         }
     }
+    if args.input.is_dir() {
+        return run_folder(args, report);
+    }
     let mut inputs = vec![named("input", &args.input)];
     inputs.extend(args.weights.inputs());
     check_outputs(&inputs, &[named("-o", &args.output)])?;
-    let pipeline = args
-        .limits
-        .apply(
-            args.fingering
-                .apply(args.weights.apply(Pipeline::builder())),
-        )
-        .build();
+    let pipeline = pipeline_of(args);
     if is_midi(&args.input) {
         return run_midi(args, &pipeline, report);
     }
@@ -83,11 +85,7 @@ pub fn run(args: &AnalyzeArgs, report: &Reporter) -> Result<(), CliError> {
         }
         bar.set_position(done_s.floor() as u64);
     })?;
-    if let Some(fps) = args.f0_fps {
-        analysis.f0 = violin_skeleton::pitch_track::PitchTrack::from_f0_track(&analysis.f0)
-            .resample_to_fps(fps)
-            .to_f0_track();
-    }
+    resample_f0(&mut analysis, args.f0_fps);
     let analysed = t0.elapsed();
     bar.finish_and_clear();
     let t2 = Instant::now();
@@ -127,17 +125,76 @@ pub fn run(args: &AnalyzeArgs, report: &Reporter) -> Result<(), CliError> {
     Ok(())
 }
 
+/// The pipeline the flags describe.
+fn pipeline_of(args: &AnalyzeArgs) -> Pipeline {
+    args.limits
+        .apply(
+            args.fingering
+                .apply(args.weights.apply(Pipeline::builder())),
+        )
+        .build()
+}
+
+/// `analyze DIR -o OUTDIR`: every music file under `DIR` (see [`crate::batch`]).
+fn run_folder(args: &AnalyzeArgs, report: &Reporter) -> Result<(), CliError> {
+    refuse_stdout_folder(
+        named("-o", &args.output),
+        "a batch's output",
+        "give a folder name",
+    )?;
+    crate::batch::check_output_folder(&args.input, &args.output)?;
+    let plan = crate::batch::plan(&args.input, &args.output, Some("json"))?;
+    let pipeline = pipeline_of(args);
+    crate::batch::run_batch(
+        "analyze",
+        &args.input,
+        &args.output,
+        plan,
+        &args.batch,
+        report,
+        |input, output| {
+            let analysis = analysis_of(&pipeline, input, args.f0_fps, |_, _| {})?;
+            write_atomically(output, |w| {
+                serde_json::to_writer(w, &analysis).map_err(|e| e.to_string())
+            })
+        },
+    )
+}
+
+/// Puts the f0 track at `fps` frames per second (`None`: the tracker's own hop).
+fn resample_f0(analysis: &mut Analysis, fps: Option<f64>) {
+    if let Some(fps) = fps {
+        analysis.f0 = violin_skeleton::pitch_track::PitchTrack::from_f0_track(&analysis.f0)
+            .resample_to_fps(fps)
+            .to_f0_track();
+    }
+}
+
+/// The analysis of one recording or MIDI file (what `analyze` writes; batch mode runs it
+/// per file).
+pub fn analysis_of(
+    pipeline: &Pipeline,
+    input: &Path,
+    f0_fps: Option<f64>,
+    on_progress: impl FnMut(f64, Option<f64>),
+) -> Result<Analysis, CliError> {
+    let mut analysis = if is_midi(input) {
+        pipeline.analyze_midi_file(input)
+    } else {
+        pipeline.analyze_file(input, on_progress)
+    }
+    .map_err(|e| with_input(e, input))?;
+    resample_f0(&mut analysis, f0_fps);
+    Ok(analysis)
+}
+
 /// `analyze` on a MIDI file.
 fn run_midi(args: &AnalyzeArgs, pipeline: &Pipeline, report: &Reporter) -> Result<(), CliError> {
     let t0 = Instant::now();
     let mut analysis = pipeline
         .analyze_midi_file(&args.input)
         .map_err(|e| with_input(e, &args.input))?;
-    if let Some(fps) = args.f0_fps {
-        analysis.f0 = violin_skeleton::pitch_track::PitchTrack::from_f0_track(&analysis.f0)
-            .resample_to_fps(fps)
-            .to_f0_track();
-    }
+    resample_f0(&mut analysis, args.f0_fps);
     let analysed = t0.elapsed();
     let t1 = Instant::now();
     write_atomically(&args.output, |w| {

@@ -54,6 +54,16 @@ pub enum CliError {
         /// What went wrong and what to do.
         reason: String,
     },
+    /// Some files of a batch failed (the others were written).
+    #[error("{failed} of {files} files failed; each is listed with its reason in {}", summary.display())]
+    BatchFailed {
+        /// Files that failed.
+        failed: usize,
+        /// Files attempted.
+        files: usize,
+        /// The summary file.
+        summary: PathBuf,
+    },
     /// A flag value is not acceptable.
     #[error("{0}")]
     Usage(String),

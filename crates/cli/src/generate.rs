@@ -8,6 +8,7 @@ use violin_skeleton::skeleton::formats::OpenPoseOptions;
 use violin_skeleton::skeleton::PoseLayout;
 use violin_skeleton::{Method, Motion, MotionFormat, Pipeline, PipelineBuilder};
 
+use crate::batch::BatchArgs;
 use crate::contract::{check_outputs, named, refuse_stdout_folder, NamedPath};
 use crate::error::CliError;
 use crate::fingering_args::FingeringArgs;
@@ -47,6 +48,17 @@ impl OutFormat {
             },
         }
     }
+
+    /// The file extension this format writes (`None`: a folder).
+    pub fn extension(self) -> Option<&'static str> {
+        match self {
+            OutFormat::Json => Some("json"),
+            OutFormat::Csv => Some("csv"),
+            OutFormat::Npy => Some("npy"),
+            OutFormat::Bvh => Some("bvh"),
+            OutFormat::Openpose => None,
+        }
+    }
 }
 
 /// Motion method.
@@ -64,9 +76,10 @@ pub enum MethodArg {
     after_help = "Examples:\n  violin-skeleton generate take1.wav -o take1.json\n  violin-skeleton generate take1.flac -o take1_openpose --format openpose --preview take1.html\n  violin-skeleton generate piece.mid -o piece.bvh\n  violin-skeleton generate take1.wav -o m1.json --method gru"
 )]
 pub struct GenerateArgs {
-    /// Audio (wav, flac, mp3, ogg) or MIDI (.mid, .midi).
+    /// Audio (wav, flac, mp3, ogg) or MIDI (.mid, .midi); or a folder: every such file
+    /// under it, in parallel, outputs mirrored under `-o` (batch mode).
     pub input: PathBuf,
-    /// Output file, or folder for `--format openpose`.
+    /// Output file, or folder for `--format openpose` (batch mode: the output folder).
     #[arg(short, long)]
     pub output: PathBuf,
     /// Output format (default: from the output's extension; none → openpose).
@@ -94,6 +107,9 @@ pub struct GenerateArgs {
     /// Network weight files (default: the embedded ones).
     #[command(flatten)]
     pub weights: NetworkWeights,
+    /// Batch mode (a folder as input).
+    #[command(flatten)]
+    pub batch: BatchArgs,
 }
 
 /// `true` for a `.mid` or `.midi` file name.
@@ -243,6 +259,9 @@ pub fn pipeline_builder_for(
 
 /// Runs `generate`.
 pub fn run(args: &GenerateArgs, report: &Reporter) -> Result<(), CliError> {
+    if args.input.is_dir() {
+        return run_folder(args, report);
+    }
     let format = match args.format.or_else(|| OutFormat::from_path(&args.output)) {
         Some(f) => f,
         None => {
@@ -262,75 +281,27 @@ pub fn run(args: &GenerateArgs, report: &Reporter) -> Result<(), CliError> {
         ))
         .build();
     let t0 = Instant::now();
-    let mut timings_line = String::new();
-    let mut midi_notes = Vec::new();
-    let (motion, summary) = if is_midi(&args.input) {
-        if let Some(p) = &args.analysis_out {
-            let analysis = pipeline
-                .analyze_midi_file(&args.input)
-                .map_err(|e| with_input(e, &args.input))?;
-            crate::output::write_atomically(p, |w| {
-                serde_json::to_writer(w, &analysis).map_err(|e| e.to_string())
-            })?;
-        }
-        let perf = pipeline
-            .performance_from_midi(&args.input)
-            .map_err(|e| with_input(e, &args.input))?;
-        let motion = violin_skeleton::motion_synth::synthesize(&perf, pipeline.synth_config())
-            .map_err(violin_skeleton::Error::from)?;
-        let summary = format!(
-            "{} notes, {} bow changes (MIDI)",
-            perf.notes().len(),
-            perf.bow_changes_s().len()
-        );
-        if args.preview.is_some() {
-            midi_notes = perf.notes().to_vec();
-        }
-        (motion, summary)
-    } else {
-        let bar = report.progress(1, "analysing (audio seconds)");
-        let on_progress = |done_s: f64, total_s: Option<f64>| {
+    let bar = report.progress(1, "analysing (audio seconds)");
+    let made = make_motion(
+        &pipeline,
+        &args.input,
+        args.method,
+        args.analysis_out.as_deref(),
+        args.preview.is_some(),
+        |done_s, total_s| {
             if let Some(t) = total_s {
                 bar.set_length(t.ceil() as u64);
             }
             bar.set_position(done_s.floor() as u64);
-        };
-        let out = match args.method {
-            MethodArg::Rules => {
-                let (analysis, timings) = pipeline
-                    .analyze_file_timed(&args.input, on_progress)
-                    .map_err(|e| with_input(e, &args.input))?;
-                if let Some(p) = &args.analysis_out {
-                    crate::output::write_atomically(p, |w| {
-                        serde_json::to_writer(w, &analysis).map_err(|e| e.to_string())
-                    })?;
-                }
-                let t_synth = Instant::now();
-                let motion = pipeline
-                    .generate_from_analysis(&analysis)
-                    .map_err(|e| with_input(e, &args.input))?;
-                timings_line = format!(
-                    "{timings}, synthesis {:.3} s",
-                    t_synth.elapsed().as_secs_f64()
-                );
-                let summary = format!(
-                    "{} notes, {} bow changes, {:.0} bpm",
-                    analysis.notes.len(),
-                    analysis.bow_changes_s.len(),
-                    analysis.tempo_bpm
-                );
-                (motion, summary)
-            }
-            MethodArg::Gru => {
-                let motion = pipeline
-                    .generate_file(&args.input, on_progress)
-                    .map_err(|e| with_input(e, &args.input))?;
-                (motion, "Method 1 (GRU)".to_string())
-            }
-        };
-        bar.finish_and_clear();
-        out
-    };
+        },
+    )?;
+    bar.finish_and_clear();
+    let Made {
+        motion,
+        summary,
+        stages: timings_line,
+        midi_notes,
+    } = made;
     let t_write = Instant::now();
     write_motion(&motion, &args.output, format)?;
     let mut preview_note = None;
@@ -364,6 +335,150 @@ pub fn run(args: &GenerateArgs, report: &Reporter) -> Result<(), CliError> {
         ));
     }
     Ok(())
+}
+
+/// `generate DIR -o OUTDIR`: every music file under `DIR` (see [`crate::batch`]).
+fn run_folder(args: &GenerateArgs, report: &Reporter) -> Result<(), CliError> {
+    for (flag, given) in [
+        ("--preview", args.preview.is_some()),
+        ("--analysis-out", args.analysis_out.is_some()),
+    ] {
+        if given {
+            return Err(CliError::Usage(format!(
+                "{flag}: not available with a folder as input; run generate on one file for it"
+            )));
+        }
+    }
+    refuse_stdout_folder(
+        named("-o", &args.output),
+        "a batch's output",
+        "give a folder name",
+    )?;
+    crate::batch::check_output_folder(&args.input, &args.output)?;
+    let format = args.format.unwrap_or(OutFormat::Json);
+    if format == OutFormat::Bvh && matches!(args.method, MethodArg::Gru) {
+        return Err(CliError::Usage(
+            "--format bvh: BVH needs the 3-D rig, which only --method rules makes".into(),
+        ));
+    }
+    let plan = crate::batch::plan(&args.input, &args.output, format.extension())?;
+    let pipeline = args
+        .limits
+        .apply(pipeline_builder_for(
+            args.method,
+            &args.fingering,
+            &args.weights,
+        ))
+        .build();
+    crate::batch::run_batch(
+        "generate",
+        &args.input,
+        &args.output,
+        plan,
+        &args.batch,
+        report,
+        |input, output| {
+            let made = make_motion(&pipeline, input, args.method, None, false, |_, _| {})?;
+            write_motion(&made.motion, output, format)
+        },
+    )
+}
+
+/// What [`make_motion`] made from one input.
+pub struct Made {
+    /// The motion.
+    pub motion: Motion,
+    /// One line: notes, bow changes, tempo.
+    pub summary: String,
+    /// Stage timings (audio with `--method rules`; empty otherwise).
+    pub stages: String,
+    /// The MIDI file's notes, when asked for (for a preview's sound).
+    pub midi_notes: Vec<violin_skeleton::Note>,
+}
+
+/// The motion of one recording or MIDI file (the core of `generate`, also run per file by
+/// batch mode); the analysis goes to `analysis_out` when given.
+pub fn make_motion(
+    pipeline: &Pipeline,
+    input: &Path,
+    method: MethodArg,
+    analysis_out: Option<&Path>,
+    keep_midi_notes: bool,
+    on_progress: impl FnMut(f64, Option<f64>),
+) -> Result<Made, CliError> {
+    let write_analysis = |p: &Path, analysis: &violin_skeleton::Analysis| {
+        crate::output::write_atomically(p, |w| {
+            serde_json::to_writer(w, analysis).map_err(|e| e.to_string())
+        })
+    };
+    if is_midi(input) {
+        if let Some(p) = analysis_out {
+            let analysis = pipeline
+                .analyze_midi_file(input)
+                .map_err(|e| with_input(e, input))?;
+            write_analysis(p, &analysis)?;
+        }
+        let perf = pipeline
+            .performance_from_midi(input)
+            .map_err(|e| with_input(e, input))?;
+        let motion = violin_skeleton::motion_synth::synthesize(&perf, pipeline.synth_config())
+            .map_err(violin_skeleton::Error::from)?;
+        let summary = format!(
+            "{} notes, {} bow changes (MIDI)",
+            perf.notes().len(),
+            perf.bow_changes_s().len()
+        );
+        let midi_notes = if keep_midi_notes {
+            perf.notes().to_vec()
+        } else {
+            Vec::new()
+        };
+        return Ok(Made {
+            motion,
+            summary,
+            stages: String::new(),
+            midi_notes,
+        });
+    }
+    match method {
+        MethodArg::Rules => {
+            let (analysis, timings) = pipeline
+                .analyze_file_timed(input, on_progress)
+                .map_err(|e| with_input(e, input))?;
+            if let Some(p) = analysis_out {
+                write_analysis(p, &analysis)?;
+            }
+            let t_synth = Instant::now();
+            let motion = pipeline
+                .generate_from_analysis(&analysis)
+                .map_err(|e| with_input(e, input))?;
+            Ok(Made {
+                motion,
+                summary: format!(
+                    "{} notes, {} bow changes, {:.0} bpm",
+                    analysis.notes.len(),
+                    analysis.bow_changes_s.len(),
+                    analysis.tempo_bpm
+                ),
+                stages: format!(
+                    "{timings}, synthesis {:.3} s",
+                    t_synth.elapsed().as_secs_f64()
+                ),
+                midi_notes: Vec::new(),
+            })
+        }
+        MethodArg::Gru => {
+            let motion = pipeline
+                .generate_file(input, on_progress)
+                .map_err(|e| with_input(e, input))?;
+            Ok(Made {
+                motion,
+                summary: "Method 1 (GRU)".to_string(),
+                stages: String::new(),
+                midi_notes: Vec::new(),
+            })
+        }
+    }
 }
 
 /// The output contract and the flag checks of `generate`, before anything is read or written.

@@ -4,6 +4,7 @@
 //! which file, what is wrong and what to do); 2 the command line is wrong.
 
 mod analyze;
+mod batch;
 mod contract;
 mod corpus_cmd;
 mod demo;
