@@ -6,7 +6,7 @@ use gltf_json::accessor::{ComponentType, Type};
 use gltf_json::animation::{Interpolation, Property};
 use gltf_json::validation::Checked::Valid;
 use gltf_json::Root;
-use ndarray::Array3;
+use ndarray::{Array2, Array3, Axis};
 use skeleton::formats::gltf::{CHUNK_BIN, CHUNK_JSON, GLB_MAGIC, MOTION_NODES};
 use skeleton::{InstrumentPoint, Joint, Motion, MotionFormat, SkeletonError};
 
@@ -224,39 +224,23 @@ fn glb_holds_the_hierarchy_and_fk_reproduces_the_motion() {
     let fk = glb.forward_kinematics();
     let joints = m.frames_3d().unwrap();
     let inst = m.instrument_3d().unwrap();
-    let targets: Vec<(&str, Box<dyn Fn(usize, usize) -> f32>)> = vec![
-        ("head", Box::new(|f, c| joints[[f, Joint::Nose.index(), c]])),
-        (
-            "r_wrist",
-            Box::new(|f, c| joints[[f, Joint::RWrist.index(), c]]),
-        ),
-        (
-            "l_wrist",
-            Box::new(|f, c| joints[[f, Joint::LWrist.index(), c]]),
-        ),
-        (
-            "l_hip",
-            Box::new(|f, c| joints[[f, Joint::LHip.index(), c]]),
-        ),
-        (
-            "hips",
-            Box::new(|f, c| 0.5 * (joints[[f, 8, c]] + joints[[f, 9, c]])),
-        ),
-        (
-            "bow_tip",
-            Box::new(|f, c| inst[[f, InstrumentPoint::BowTip as usize, c]]),
-        ),
-        (
-            "violin_scroll",
-            Box::new(|f, c| inst[[f, InstrumentPoint::ViolinScroll as usize, c]]),
-        ),
+    let joint = |j: Joint| joints.index_axis(Axis(1), j.index()).to_owned();
+    let point = |p: InstrumentPoint| inst.index_axis(Axis(1), p as usize).to_owned();
+    let targets: Vec<(&str, Array2<f32>)> = vec![
+        ("head", joint(Joint::Nose)),
+        ("r_wrist", joint(Joint::RWrist)),
+        ("l_wrist", joint(Joint::LWrist)),
+        ("l_hip", joint(Joint::LHip)),
+        ("hips", (joint(Joint::RHip) + joint(Joint::LHip)) * 0.5),
+        ("bow_tip", point(InstrumentPoint::BowTip)),
+        ("violin_scroll", point(InstrumentPoint::ViolinScroll)),
     ];
     let mut worst = 0.0f32;
     for (name, want) in &targets {
         let i = glb.node_index(name);
         for (f, frame) in fk.iter().enumerate() {
-            for c in 0..3 {
-                worst = worst.max((frame[i][c] - want(f, c)).abs());
+            for (c, v) in frame[i].iter().enumerate() {
+                worst = worst.max((v - want[[f, c]]).abs());
             }
         }
     }

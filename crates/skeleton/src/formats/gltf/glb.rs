@@ -185,7 +185,7 @@ fn document(anim: &NodeAnimation, times: &[f32], bin_len: usize, name: &str) -> 
 }
 
 fn pad_to_4(bytes: &mut Vec<u8>, fill: u8) {
-    while bytes.len() % 4 != 0 {
+    while !bytes.len().is_multiple_of(4) {
         bytes.push(fill);
     }
 }
