@@ -92,6 +92,7 @@ pub fn run(args: &DemoArgs, report: &Reporter) -> Result<(), CliError> {
     write_motion(&motion, &out.join("motion.json"), OutFormat::Json)?;
     write_motion(&motion, &out.join("openpose"), OutFormat::Openpose)?;
     write_motion(&motion, &out.join("motion.bvh"), OutFormat::Bvh)?;
+    write_motion(&motion, &out.join("motion.glb"), OutFormat::Glb)?;
     bar.inc(1);
     write_preview(&motion, &out.join("preview.gif"), SoundSource::None)?;
     let sound = SoundSource::Audio {
@@ -127,11 +128,12 @@ pub fn run(args: &DemoArgs, report: &Reporter) -> Result<(), CliError> {
     ));
     let show = |p: &Path| p.display().to_string();
     report.line(&format!(
-        "  look at: {} (open in a browser), {}; data: {}, {}, {}/, {}",
+        "  look at: {} (open in a browser), {}; data: {}, {}, {}, {}/, {}",
         show(&out.join("player.html")),
         show(&out.join("preview.gif")),
         show(&out.join("motion.json")),
         show(&out.join("motion.bvh")),
+        show(&out.join("motion.glb")),
         show(&out.join("openpose")),
         show(&out.join("analysis.json"))
     ));

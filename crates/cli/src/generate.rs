@@ -29,6 +29,8 @@ pub enum OutFormat {
     Npy,
     /// BVH of the 3-D rig (Blender: File → Import → Motion Capture (.bvh)).
     Bvh,
+    /// glTF 2.0 binary of the 3-D rig: animated node hierarchy (Blender: File → Import → glTF).
+    Glb,
 }
 
 impl OutFormat {
@@ -44,6 +46,7 @@ impl OutFormat {
                 "csv" => Some(OutFormat::Csv),
                 "npy" => Some(OutFormat::Npy),
                 "bvh" => Some(OutFormat::Bvh),
+                "glb" => Some(OutFormat::Glb),
                 _ => None,
             },
         }
@@ -73,7 +76,7 @@ pub enum MethodArg {
 /// Arguments of `generate`.
 #[derive(Debug, Args)]
 #[command(
-    after_help = "Examples:\n  violin-skeleton generate take1.wav -o take1.json\n  violin-skeleton generate take1.flac -o take1_openpose --format openpose --preview take1.html\n  violin-skeleton generate piece.mid -o piece.bvh\n  violin-skeleton generate take1.wav -o m1.json --method gru"
+    after_help = "Examples:\n  violin-skeleton generate take1.wav -o take1.json\n  violin-skeleton generate take1.flac -o take1_openpose --format openpose --preview take1.html\n  violin-skeleton generate piece.mid -o piece.bvh\n  violin-skeleton generate take1.wav -o take1.glb --preview take1.mp4\n  violin-skeleton generate take1.wav -o m1.json --method gru"
 )]
 pub struct GenerateArgs {
     /// Audio (wav, flac, mp3, ogg) or MIDI (.mid, .midi); or a folder: every such file
@@ -94,8 +97,9 @@ pub struct GenerateArgs {
     /// Input limits.
     #[command(flatten)]
     pub limits: InputLimits,
-    /// Also write a preview: `.gif` or `.html` (a player with the sound: audio up to 2 MiB
-    /// embedded, larger audio linked beside the page, MIDI notes synthesized in the browser).
+    /// Also write a preview: `.gif`, `.html` (a player with the sound: audio up to 2 MiB
+    /// embedded, larger audio linked beside the page, MIDI notes synthesized in the browser)
+    /// or `.mp4` (H.264 with the audio as AAC; needs ffmpeg; a MIDI input gives a silent video).
     #[arg(long)]
     pub preview: Option<PathBuf>,
     /// Put the audio in the HTML player whatever its size (one self-contained page).
@@ -139,6 +143,7 @@ pub fn write_motion(motion: &Motion, path: &Path, format: OutFormat) -> Result<(
         )?,
         OutFormat::Bvh => violin_skeleton::motion_synth::bvh::write_bvh_file(motion, path)
             .map_err(violin_skeleton::Error::from)?,
+        OutFormat::Glb => motion.write(path, MotionFormat::Glb)?,
     }
     Ok(())
 }
@@ -266,7 +271,7 @@ pub fn run(args: &GenerateArgs, report: &Reporter) -> Result<(), CliError> {
         Some(f) => f,
         None => {
             return Err(CliError::Usage(format!(
-                "-o {}: cannot tell the format from the extension; use .json, .csv, .npy, .bvh, a folder name, or --format",
+                "-o {}: cannot tell the format from the extension; use .json, .csv, .npy, .bvh, .glb, a folder name, or --format",
                 args.output.display()
             )))
         }
@@ -487,16 +492,21 @@ fn check_generate_paths(args: &GenerateArgs, format: OutFormat) -> Result<(), Cl
         refuse_stdout_folder(
             named("-o", &args.output),
             "OpenPose output",
-            "give a folder name, or --format json|csv|npy|bvh for one file",
+            "give a folder name, or --format json|csv|npy|bvh|glb for one file",
         )?;
     }
     if let Some(p) = &args.preview {
         check_preview_name(p)?;
     }
-    if format == OutFormat::Bvh && matches!(args.method, MethodArg::Gru) {
-        return Err(CliError::Usage(
-            "-o .bvh: BVH needs the 3-D rig, which only --method rules makes; use --format json, csv, npy or openpose with --method gru".into(),
-        ));
+    if matches!(format, OutFormat::Bvh | OutFormat::Glb) && matches!(args.method, MethodArg::Gru) {
+        let (ext, name) = if format == OutFormat::Bvh {
+            ("bvh", "BVH")
+        } else {
+            ("glb", "glTF")
+        };
+        return Err(CliError::Usage(format!(
+            "-o .{ext}: {name} needs the 3-D rig, which only --method rules makes; use --format json, csv, npy or openpose with --method gru"
+        )));
     }
     let mut inputs = vec![named("input", &args.input)];
     inputs.extend(args.weights.analysis.inputs());

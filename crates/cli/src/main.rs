@@ -45,9 +45,9 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
-    /// Run the whole pipeline on the shipped demo clip and write ./demo-out/ (motion, OpenPose, BVH, previews).
+    /// Run the whole pipeline on the shipped demo clip and write ./demo-out/ (motion, OpenPose, BVH, glTF, previews).
     Demo(demo::DemoArgs),
-    /// A recording (wav/flac/mp3/ogg) or MIDI file in, violinist motion out (json, openpose, csv, npy, bvh).
+    /// A recording (wav/flac/mp3/ogg) or MIDI file in, violinist motion out (json, openpose, csv, npy, bvh, glb).
     Generate(generate::GenerateArgs),
     /// Write the networks' mel inputs (mel30: 30 fps × 128, mel2: 2 fps × 64) as float32 .npy.
     Features(features::FeaturesArgs),
@@ -58,7 +58,7 @@ enum Command {
     PoseLabels(pose_labels::PoseLabelsArgs),
     /// Analyse a recording or MIDI file: f0, notes with fingering, bow changes, beats, downbeats, meter, arousal (analysis.json).
     Analyze(analyze::AnalyzeArgs),
-    /// Draw a motion as an animated GIF, PNG frames or an HTML player with the audio.
+    /// Draw a motion as an animated GIF, PNG frames, an HTML player or an MP4 with the audio; or convert it to .glb.
     Render(render::RenderArgs),
     /// Every SPEC §10 measure on a labelled corpus or URMP folder: a table, and a JSON report.
     Evaluate(evaluate::EvaluateArgs),

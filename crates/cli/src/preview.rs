@@ -7,7 +7,8 @@
 use std::path::{Component, Path, PathBuf};
 
 use violin_skeleton::skeleton_render::{
-    audio_mime, write_gif_file, write_html_player_file_with, PlayerNote, PlayerSound, RenderConfig,
+    audio_mime, check_ffmpeg, write_gif_file, write_html_player_file_with, write_mp4_file,
+    PlayerNote, PlayerSound, RenderConfig,
 };
 use violin_skeleton::{Motion, Note};
 
@@ -125,14 +126,19 @@ pub fn write_player(
     Ok(note)
 }
 
-/// The two kinds of preview.
+/// The kinds of preview.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum PreviewKind {
     Gif,
     Html,
+    Mp4,
 }
 
-/// The kind a `--preview` name asks for: `.gif` or `.html`/`.htm`, else a usage error.
+/// Picture size and rate of an MP4 preview (the motion's own rate, at most this).
+pub const MP4_PREVIEW: (u32, u32, f64) = (640, 360, 30.0);
+
+/// The kind a `--preview` name asks for: `.gif`, `.html`/`.htm` or `.mp4`, else a usage
+/// error.
 fn preview_kind(path: &Path) -> Result<PreviewKind, CliError> {
     let ext = path
         .extension()
@@ -140,19 +146,24 @@ fn preview_kind(path: &Path) -> Result<PreviewKind, CliError> {
     match ext.as_deref() {
         Some("gif") => Ok(PreviewKind::Gif),
         Some("html") | Some("htm") => Ok(PreviewKind::Html),
+        Some("mp4") => Ok(PreviewKind::Mp4),
         _ => Err(CliError::Usage(format!(
-            "--preview {}: use a .gif or .html file name",
+            "--preview {}: use a .gif, .html or .mp4 file name",
             path.display()
         ))),
     }
 }
 
-/// Refuses a `--preview` name that is neither `.gif` nor `.html` (before any work is done).
+/// Refuses a `--preview` name that is not `.gif`, `.html` or `.mp4`, and an `.mp4` when
+/// ffmpeg is missing (before any work is done).
 pub fn check_preview_name(path: &Path) -> Result<(), CliError> {
-    preview_kind(path).map(|_| ())
+    if preview_kind(path)? == PreviewKind::Mp4 {
+        check_ffmpeg()?;
+    }
+    Ok(())
 }
 
-/// Writes a `.gif` or `.html` preview.
+/// Writes a `.gif`, `.html` or `.mp4` preview.
 pub fn write_preview(
     motion: &Motion,
     path: &Path,
@@ -164,6 +175,21 @@ pub fn write_preview(
             Ok(None)
         }
         PreviewKind::Html => write_player(motion, path, source),
+        PreviewKind::Mp4 => {
+            let (width, height, fps_out) = MP4_PREVIEW;
+            let cfg = RenderConfig {
+                width,
+                height,
+                fps_out,
+                ..RenderConfig::default()
+            };
+            let audio = match source {
+                SoundSource::Audio { path, .. } => Some(path),
+                SoundSource::None | SoundSource::Notes(_) => None,
+            };
+            write_mp4_file(motion, path, &cfg, audio, |_, _| {})?;
+            Ok(None)
+        }
     }
 }
 

@@ -1,5 +1,5 @@
-//! `violin-skeleton render`: a motion file → animated GIF, HTML player (with the audio) or a
-//! folder of PNG frames.
+//! `violin-skeleton render`: a motion file → animated GIF, HTML player (with the audio), MP4
+//! video (with the audio; needs ffmpeg), a folder of PNG frames, or a glTF binary (`.glb`).
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -8,7 +8,8 @@ use clap::Args;
 use violin_skeleton::dsp_mel::load_audio;
 use violin_skeleton::skeleton::{Motion, MotionFormat};
 use violin_skeleton::skeleton_render::{
-    audio_mime, write_gif_with_progress, write_png_frames, RenderConfig,
+    audio_mime, check_ffmpeg, write_gif_with_progress, write_mp4_file, write_png_frames,
+    RenderConfig,
 };
 
 use crate::contract::{check_outputs, named, refuse_stdout_folder};
@@ -21,36 +22,40 @@ use crate::Reporter;
 /// Arguments of `render`.
 #[derive(Debug, Args)]
 #[command(
-    after_help = "The output's extension chooses the kind: .gif (animated GIF), .html (one self-contained page with a canvas, the motion and the audio), anything else a folder of PNG frames (created if missing).\n\nExamples:\n  violin-skeleton render motion.json -o preview.gif\n  violin-skeleton render motion.json --audio take1.wav -o player.html\n  violin-skeleton render motion.json --width 1280 --height 720 --fps 30 -o frames/"
+    after_help = "The output's extension chooses the kind: .gif (animated GIF), .html (one self-contained page with a canvas, the motion and the audio), .mp4 (H.264 video with the audio as AAC, through ffmpeg), .glb (the 3-D motion as glTF 2.0 binary), anything else a folder of PNG frames (created if missing).\n\nExamples:\n  violin-skeleton render motion.json -o preview.gif\n  violin-skeleton render motion.json --audio take1.wav -o player.html\n  violin-skeleton render motion.json --audio take1.wav --width 1280 --height 720 -o take1.mp4\n  violin-skeleton render motion.json -o motion.glb\n  violin-skeleton render motion.json --width 1280 --height 720 --fps 30 -o frames/"
 )]
 pub struct RenderArgs {
     /// Motion file (motion .json; .csv, .npy or an OpenPose folder also work).
     pub input: PathBuf,
-    /// The HTML player's sound: audio (wav, mp3, ogg, flac; up to 2 MiB embedded, larger
-    /// linked beside the page) or a MIDI file (its notes synthesized in the browser).
+    /// The sound: for the HTML player audio (wav, mp3, ogg, flac; up to 2 MiB embedded,
+    /// larger linked beside the page) or a MIDI file (its notes synthesized in the browser);
+    /// for an MP4 an audio file (encoded as AAC; a MIDI file gives a silent video).
     #[arg(long)]
     pub audio: Option<PathBuf>,
     /// Put the audio in the HTML player whatever its size (one self-contained page).
     #[arg(long)]
     pub embed_audio: bool,
-    /// Output: P.gif, P.html or a folder for PNG frames.
+    /// Output: P.gif, P.html, P.mp4, P.glb or a folder for PNG frames.
     #[arg(short, long)]
     pub output: PathBuf,
-    /// Picture width in pixels (GIF, PNG).
+    /// Picture width in pixels (GIF, PNG, MP4; even for MP4).
     #[arg(long, default_value_t = 480)]
     pub width: u32,
-    /// Picture height in pixels (GIF, PNG).
+    /// Picture height in pixels (GIF, PNG, MP4; even for MP4).
     #[arg(long, default_value_t = 270)]
     pub height: u32,
-    /// Pictures per second (GIF, PNG; at most the motion's rate).
-    #[arg(long, default_value_t = 15.0)]
-    pub fps: f64,
+    /// Pictures per second (GIF, PNG, MP4; at most the motion's rate; default 15, MP4 the
+    /// motion's rate).
+    #[arg(long)]
+    pub fps: Option<f64>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Kind {
     Gif,
     Html,
+    Mp4,
+    Glb,
     PngFrames,
 }
 
@@ -65,8 +70,10 @@ fn output_kind(path: &Path) -> Result<Kind, CliError> {
         None => Ok(Kind::PngFrames),
         Some(e) if e == "gif" => Ok(Kind::Gif),
         Some(e) if e == "html" || e == "htm" => Ok(Kind::Html),
+        Some(e) if e == "mp4" => Ok(Kind::Mp4),
+        Some(e) if e == "glb" => Ok(Kind::Glb),
         Some(e) => Err(CliError::Usage(format!(
-            "-o {}: unknown output kind .{e}; use P.gif, P.html or a folder name for PNG frames",
+            "-o {}: unknown output kind .{e}; use P.gif, P.html, P.mp4, P.glb or a folder name for PNG frames",
             path.display()
         ))),
     }
@@ -81,6 +88,16 @@ fn check_audio(path: &Path) -> Result<f64, CliError> {
         )));
     }
     Ok(load_audio(path)?.duration_s())
+}
+
+/// Warns when the sound and the motion differ in length by more than a second.
+fn warn_on_drift(audio_s: f64, motion: &Motion, report: &Reporter) {
+    if (audio_s - motion.duration_s()).abs() > 1.0 {
+        report.line(&format!(
+            "warning: the sound lasts {audio_s:.1} s but the motion {:.1} s; they will drift apart",
+            motion.duration_s()
+        ));
+    }
 }
 
 /// Runs `render`.
@@ -99,20 +116,32 @@ pub fn run(args: &RenderArgs, report: &Reporter) -> Result<(), CliError> {
         inputs.push(named("--audio", a));
     }
     check_outputs(&inputs, &[named("-o", &args.output)])?;
-    if args.audio.is_some() && kind != Kind::Html {
+    if args.audio.is_some() && !matches!(kind, Kind::Html | Kind::Mp4) {
         return Err(CliError::Usage(
-            "--audio is embedded only in an HTML player; give -o P.html".into(),
+            "--audio goes only into an HTML player or an MP4; give -o P.html or P.mp4".into(),
         ));
     }
     let cfg = RenderConfig {
         width: args.width,
         height: args.height,
-        fps_out: args.fps,
+        // MP4 plays every motion frame unless told otherwise (the cap is the motion's rate).
+        fps_out: args
+            .fps
+            .unwrap_or(if kind == Kind::Mp4 { f64::MAX } else { 15.0 }),
         ..RenderConfig::default()
     };
     // A bad --width, --height or --fps is a usage error (exit 2), found before any work.
     cfg.validate()
         .map_err(|e| CliError::Usage(format!("{e}; check --width, --height and --fps")))?;
+    if kind == Kind::Mp4 {
+        if !cfg.width.is_multiple_of(2) || !cfg.height.is_multiple_of(2) {
+            return Err(CliError::Usage(format!(
+                "--width {} --height {}: an MP4 needs an even width and height",
+                cfg.width, cfg.height
+            )));
+        }
+        check_ffmpeg()?;
+    }
     let format = MotionFormat::from_path(&args.input)?;
     let motion = Motion::read(&args.input, format)?;
     let pictures = cfg.frame_indices(&motion).len();
@@ -139,6 +168,38 @@ pub fn run(args: &RenderArgs, report: &Reporter) -> Result<(), CliError> {
             bar.finish_and_clear();
             format!("{n} PNG frames {}×{}", cfg.width, cfg.height)
         }
+        Kind::Mp4 => {
+            let audio = match &args.audio {
+                Some(a) if is_midi(a) => {
+                    report.line(&format!(
+                        "note: {} is MIDI; the MP4 has no sound (render the MIDI to audio first)",
+                        a.display()
+                    ));
+                    None
+                }
+                Some(a) => {
+                    warn_on_drift(check_audio(a)?, &motion, report);
+                    Some(a.as_path())
+                }
+                None => None,
+            };
+            let bar = report.progress(pictures as u64, "MP4");
+            write_mp4_file(&motion, &args.output, &cfg, audio, |done, _| {
+                bar.set_position(done as u64)
+            })?;
+            bar.finish_and_clear();
+            format!(
+                "MP4 {pictures} pictures {}×{} at {} fps{}",
+                cfg.width,
+                cfg.height,
+                cfg.effective_fps(&motion),
+                audio.map_or(String::new(), |a| format!(" with {}", a.display()))
+            )
+        }
+        Kind::Glb => {
+            motion.write(&args.output, MotionFormat::Glb)?;
+            "glTF 2.0 binary".to_string()
+        }
         Kind::Html => {
             let midi_notes = match &args.audio {
                 Some(a) if is_midi(a) => Some(
@@ -156,12 +217,7 @@ pub fn run(args: &RenderArgs, report: &Reporter) -> Result<(), CliError> {
                 _ => None,
             };
             if let Some(audio_s) = audio_s {
-                if (audio_s - motion.duration_s()).abs() > 1.0 {
-                    report.line(&format!(
-                        "warning: the sound lasts {audio_s:.1} s but the motion {:.1} s; they will drift apart",
-                        motion.duration_s()
-                    ));
-                }
+                warn_on_drift(audio_s, &motion, report);
             }
             let source = match (&args.audio, &midi_notes) {
                 (_, Some(notes)) => SoundSource::Notes(notes),
@@ -205,6 +261,8 @@ mod tests {
         assert_eq!(output_kind(Path::new("a.GIF")).unwrap(), Kind::Gif);
         assert_eq!(output_kind(Path::new("a.htm")).unwrap(), Kind::Html);
         assert_eq!(output_kind(Path::new("frames")).unwrap(), Kind::PngFrames);
-        assert!(output_kind(Path::new("a.mp4")).is_err());
+        assert_eq!(output_kind(Path::new("a.MP4")).unwrap(), Kind::Mp4);
+        assert_eq!(output_kind(Path::new("a.glb")).unwrap(), Kind::Glb);
+        assert!(output_kind(Path::new("a.mkv")).is_err());
     }
 }

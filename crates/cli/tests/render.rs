@@ -132,7 +132,7 @@ fn bad_inputs_give_one_line_errors() {
     assert_eq!(code, 1);
     assert!(err.contains("broken.json"), "{err}");
     assert!(!gif.exists(), "no output on failure");
-    let (code, _) = run(&[m, "-o", dir.path().join("x.mp4").to_str().unwrap()]);
+    let (code, _) = run(&[m, "-o", dir.path().join("x.mkv").to_str().unwrap()]);
     assert_eq!(code, 2);
     // A bad flag value is a usage error (exit 2).
     let (code, err) = run(&[m, "--width", "0", "-o", gif.to_str().unwrap()]);

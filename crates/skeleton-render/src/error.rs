@@ -31,6 +31,12 @@ pub enum RenderError {
     /// The GIF encoder failed.
     #[error("GIF encoding failed: {0}")]
     Gif(String),
+    /// The `ffmpeg` program (needed for MP4) is not installed.
+    #[error("ffmpeg is not installed (not found on PATH); install it to write .mp4 (Debian/Ubuntu: apt-get install ffmpeg, macOS: brew install ffmpeg) or set FFMPEG=/path/to/ffmpeg")]
+    FfmpegMissing,
+    /// ffmpeg failed or the MP4 could not be written.
+    #[error("MP4 encoding failed: {0}")]
+    Ffmpeg(String),
     /// The PNG encoder failed.
     #[error("PNG encoding failed: {0}")]
     Png(String),

@@ -10,6 +10,8 @@
 //! * [`write_html_player`] / [`write_html_player_file`]: one self-contained HTML file with
 //!   the motion as JSON and the audio as a base64 data URI, drawn in sync with the audio
 //!   (`?t=SECONDS` and `window.seek(t)` for scripted checks).
+//! * [`write_mp4_file`]: an H.264 MP4 with the audio (AAC) through the `ffmpeg` program
+//!   ([`check_ffmpeg`] says early whether it is installed).
 //!
 //! Motion pixels are fitted to the picture by [`Layout::fit`]: the motion's image (when
 //! its size is known) fills the picture, otherwise the bounding box of all its points.
@@ -34,6 +36,7 @@ mod error;
 mod files;
 mod gif_out;
 mod html;
+mod mp4_out;
 mod player_sound;
 mod png_out;
 
@@ -45,6 +48,7 @@ pub use html::{
     audio_mime, player_json, write_html_player, write_html_player_file,
     write_html_player_file_with, write_html_player_with,
 };
+pub use mp4_out::{check_ffmpeg, write_mp4_file};
 pub use player_sound::{PlayerNote, PlayerSound};
 pub use png_out::{png_frame_name, render_png, write_png_frames};
 

@@ -85,7 +85,7 @@ pub enum SkeletonError {
         path: PathBuf,
     },
     /// The file format cannot be told from the path.
-    #[error("{path}: cannot tell the motion format from the extension; use .json, .csv, .npy or a directory (OpenPose)")]
+    #[error("{path}: cannot tell the motion format from the extension; use .json, .csv, .npy, .glb or a directory (OpenPose)")]
     UnknownFormat {
         /// The path.
         path: PathBuf,
@@ -97,6 +97,12 @@ pub enum SkeletonError {
         track: &'static str,
         /// What to do.
         hint: &'static str,
+    },
+    /// A node animation (for glTF export) is not well formed.
+    #[error("invalid node animation: {reason}")]
+    InvalidAnimation {
+        /// What is wrong.
+        reason: String,
     },
     /// Writing to a stream failed.
     #[error("write failed: {0}")]

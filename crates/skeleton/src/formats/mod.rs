@@ -6,6 +6,7 @@
 //! | [`MotionFormat::Json`] | `{"fps", "joints", "frames", ["frames_3d"], "units", ["image_size"], ["instrument_points", "instrument", "instrument_3d"]}` | joints in any order, by name | all tracks |
 //! | [`MotionFormat::Csv`] | header `frame,time_s,nose_x,nose_y,…,l_hip_y`, one row per frame | columns by name; fps from `time_s` | 2-D track |
 //! | [`MotionFormat::Npy`] | float32 `(T, 20)`: x, y per joint in [`crate::Joint::ALL`] order | needs an fps ([`Motion::read_npy`]); [`Motion::read`] assumes 30 | 2-D track |
+//! | [`MotionFormat::Glb`] | glTF 2.0 binary: a node hierarchy with animated translations ([`gltf`]) | not read | 3-D track and 3-D instrument points |
 //! | [`MotionFormat::OpenPose`] | a directory of `{prefix}_{frame:012}_keypoints.json` in OpenPose's schema | a clean single-person directory | 2-D track, BODY_25 or COCO-18 |
 //!
 //! Every file write is atomic: the data goes to a temporary file in the same directory that
@@ -36,6 +37,7 @@ pub mod bvh;
 mod check;
 mod csv;
 mod files;
+pub mod gltf;
 mod json;
 mod npy;
 mod openpose;
@@ -68,10 +70,12 @@ pub enum MotionFormat {
     /// A directory with one OpenPose `*_keypoints.json` per frame (BODY_25 by default).
     #[serde(rename = "openpose")]
     OpenPose,
+    /// glTF 2.0 binary of the 3-D track (write only; see [`gltf`]).
+    Glb,
 }
 
 impl MotionFormat {
-    /// Guesses the format from a path: `.json`, `.csv`, `.npy` (any case); an existing
+    /// Guesses the format from a path: `.json`, `.csv`, `.npy`, `.glb` (any case); an existing
     /// directory or a path without extension is an OpenPose directory.
     ///
     /// ```
@@ -93,6 +97,7 @@ impl MotionFormat {
             "json" => Ok(MotionFormat::Json),
             "csv" => Ok(MotionFormat::Csv),
             "npy" => Ok(MotionFormat::Npy),
+            "glb" => Ok(MotionFormat::Glb),
             _ => Err(SkeletonError::UnknownFormat {
                 path: path.to_path_buf(),
             }),
@@ -104,7 +109,8 @@ impl Motion {
     /// Writes the motion to `path` in `format`, atomically (OpenPose: BODY_25, file prefix
     /// `motion`; see [`Motion::write_openpose`] for other options).
     ///
-    /// Fails on an empty motion or a non-finite coordinate, naming the frame and joint.
+    /// Fails on an empty motion or a non-finite coordinate, naming the frame and joint, and
+    /// for [`MotionFormat::Glb`] on a motion without a 3-D track (before anything is written).
     pub fn write(&self, path: impl AsRef<Path>, format: MotionFormat) -> Result<()> {
         let path = path.as_ref();
         match format {
@@ -121,6 +127,11 @@ impl Motion {
                 files::write_file(path, |w| npy::write(self, w, path))
             }
             MotionFormat::OpenPose => self.write_openpose(path, &OpenPoseOptions::default()),
+            MotionFormat::Glb => {
+                check_writable(self, path, true)?;
+                let anim = gltf::motion_animation(self)?;
+                files::write_file(path, |w| gltf::write_glb(&anim, gltf::MOTION_NAME, w))
+            }
         }
     }
 
@@ -133,7 +144,7 @@ impl Motion {
         openpose::write_dir(self, dir, options)
     }
 
-    /// Reads a motion from `path` in `format`. NPY and OpenPose files carry no frame rate:
+    /// Reads a motion from `path` in `format` ([`MotionFormat::Glb`] is write-only). NPY and OpenPose files carry no frame rate:
     /// they are read at [`DEFAULT_FPS`] (use [`Motion::read_npy`] / [`Motion::read_openpose`]
     /// for another rate).
     pub fn read(path: impl AsRef<Path>, format: MotionFormat) -> Result<Motion> {
@@ -143,6 +154,10 @@ impl Motion {
             MotionFormat::Csv => csv::read(&files::read_file(path)?, path),
             MotionFormat::Npy => Motion::read_npy(path, DEFAULT_FPS),
             MotionFormat::OpenPose => Motion::read_openpose(path, DEFAULT_FPS),
+            MotionFormat::Glb => Err(SkeletonError::Format {
+                path: path.to_path_buf(),
+                reason: "reading .glb is not supported; read the motion's .json (or .csv, .npy, OpenPose folder) instead".into(),
+            }),
         }
     }
 
