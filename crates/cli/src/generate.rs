@@ -59,6 +59,7 @@ impl OutFormat {
             OutFormat::Csv => Some("csv"),
             OutFormat::Npy => Some("npy"),
             OutFormat::Bvh => Some("bvh"),
+            OutFormat::Glb => Some("glb"),
             OutFormat::Openpose => None,
         }
     }
@@ -361,10 +362,11 @@ fn run_folder(args: &GenerateArgs, report: &Reporter) -> Result<(), CliError> {
     )?;
     crate::batch::check_output_folder(&args.input, &args.output)?;
     let format = args.format.unwrap_or(OutFormat::Json);
-    if format == OutFormat::Bvh && matches!(args.method, MethodArg::Gru) {
-        return Err(CliError::Usage(
-            "--format bvh: BVH needs the 3-D rig, which only --method rules makes".into(),
-        ));
+    if matches!(format, OutFormat::Bvh | OutFormat::Glb) && matches!(args.method, MethodArg::Gru) {
+        return Err(CliError::Usage(format!(
+            "--format {}: it needs the 3-D rig, which only --method rules makes",
+            format.extension().unwrap_or_default()
+        )));
     }
     let plan = crate::batch::plan(&args.input, &args.output, format.extension())?;
     let pipeline = args
