@@ -43,6 +43,7 @@ const LAYERS: &[(&str, u32)] = &[
     ("violin-train", 51),
     ("input-fuzz", 51),
     ("violin-skeleton-cli", 52),
+    ("violin-skeleton-python", 52),
 ];
 
 const NETWORKS: &[&str] = &["bowing-net", "beat-net", "emotion-net", "gru-baseline"];
