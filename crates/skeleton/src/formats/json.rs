@@ -12,7 +12,7 @@ use crate::joint::{Joint, JOINT_COUNT};
 use crate::motion::{InstrumentPoint, Motion};
 
 /// A `(T, points, dims)` track serialised as nested arrays.
-struct Track<'a>(&'a Array3<f32>);
+pub(crate) struct Track<'a>(pub(crate) &'a Array3<f32>);
 struct Frame<'a>(ArrayView2<'a, f32>);
 struct Point<'a>(ArrayView1<'a, f32>);
 
@@ -62,6 +62,8 @@ struct MotionJsonOut<'a> {
     instrument: Option<Track<'a>>,
     #[serde(skip_serializing_if = "Option::is_none")]
     instrument_3d: Option<Track<'a>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    performer: Option<super::performer_json::PerformerOut<'a>>,
 }
 
 /// Writes `motion` as motion JSON to `writer` (all tracks it has).
@@ -93,6 +95,9 @@ pub(crate) fn write(motion: &Motion, mut writer: impl Write, path: &Path) -> Res
         instrument_points: has_instrument.then(|| InstrumentPoint::ALL.map(InstrumentPoint::name)),
         instrument: motion.instrument().map(Track),
         instrument_3d: motion.instrument_3d().map(Track),
+        performer: motion
+            .performer()
+            .map(super::performer_json::PerformerOut::new),
     };
     let io = |e: std::io::Error| SkeletonError::Io {
         path: path.to_path_buf(),
@@ -103,7 +108,7 @@ pub(crate) fn write(motion: &Motion, mut writer: impl Write, path: &Path) -> Res
 }
 
 /// Nested arrays as read: `null` is kept so it can be reported as a non-finite value.
-type RawTrack = Vec<Vec<Vec<Option<f64>>>>;
+pub(crate) type RawTrack = Vec<Vec<Vec<Option<f64>>>>;
 
 #[derive(Deserialize)]
 struct MotionJsonIn {
@@ -116,6 +121,7 @@ struct MotionJsonIn {
     instrument_points: Option<Vec<String>>,
     instrument: Option<RawTrack>,
     instrument_3d: Option<RawTrack>,
+    performer: Option<super::performer_json::PerformerIn>,
 }
 
 /// Reads motion JSON from `reader` (joints in any order, by name; unknown or missing joints
@@ -149,7 +155,11 @@ fn missing(path: &Path, field: &str, hint: &str) -> SkeletonError {
 
 /// For each column of the file, the index of that name in `known`; every known name must
 /// appear exactly once.
-fn column_order(path: &Path, names: &[String], known: &[&'static str]) -> Result<Vec<usize>> {
+pub(crate) fn column_order(
+    path: &Path,
+    names: &[String],
+    known: &[&'static str],
+) -> Result<Vec<usize>> {
     let mut order = Vec::with_capacity(names.len());
     let mut seen = vec![false; known.len()];
     for name in names {
@@ -179,7 +189,7 @@ fn column_order(path: &Path, names: &[String], known: &[&'static str]) -> Result
 }
 
 /// Builds a `(T, points, dims)` array from a raw track whose point columns follow `order`.
-fn to_track(
+pub(crate) fn to_track(
     path: &Path,
     field: &str,
     raw: &RawTrack,
@@ -302,6 +312,10 @@ pub(crate) fn read(bytes: &[u8], path: &Path) -> Result<Motion> {
             let track = to_track(path, "instrument_3d", i3, &inst_order, &point_names, 3)?;
             motion = motion.with_instrument_3d(track).map_err(shape_error)?;
         }
+    }
+    if let Some(p) = raw.performer {
+        let track = p.into_track(path, frame_count)?;
+        motion = motion.with_performer(track).map_err(shape_error)?;
     }
     if let Some([w, h]) = raw.image_size {
         motion = motion.with_image_size(w, h);

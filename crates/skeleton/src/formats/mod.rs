@@ -3,7 +3,7 @@
 //!
 //! | format | what | read | write |
 //! |---|---|---|---|
-//! | [`MotionFormat::Json`] | `{"fps", "joints", "frames", ["frames_3d"], "units", ["image_size"], ["instrument_points", "instrument", "instrument_3d"]}` | joints in any order, by name | all tracks |
+//! | [`MotionFormat::Json`] | `{"fps", "joints", "frames", ["frames_3d"], "units", ["image_size"], ["instrument_points", "instrument", "instrument_3d"], ["performer"]}` | joints in any order, by name; `performer` optional | all tracks |
 //! | [`MotionFormat::Csv`] | header `frame,time_s,nose_x,nose_y,…,l_hip_y`, one row per frame | columns by name; fps from `time_s` | 2-D track |
 //! | [`MotionFormat::Npy`] | float32 `(T, 20)`: x, y per joint in [`crate::Joint::ALL`] order | needs an fps ([`Motion::read_npy`]); [`Motion::read`] assumes 30 | 2-D track |
 //! | [`MotionFormat::OpenPose`] | a directory of `{prefix}_{frame:012}_keypoints.json` in OpenPose's schema | a clean single-person directory | 2-D track, BODY_25 or COCO-18 |
@@ -39,6 +39,7 @@ mod files;
 mod json;
 mod npy;
 mod openpose;
+mod performer_json;
 
 use std::path::Path;
 

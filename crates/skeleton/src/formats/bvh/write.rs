@@ -78,7 +78,7 @@ fn shortest_arc(a: Vec3, b: Vec3) -> Mat3 {
 }
 
 /// `(z, x, y)` angles in degrees with `m = Rz(z) · Rx(x) · Ry(y)`.
-fn euler_zxy(m: &Mat3) -> [f64; 3] {
+pub(super) fn euler_zxy(m: &Mat3) -> [f64; 3] {
     let r = &m.rows;
     let x = r[2][1].clamp(-1.0, 1.0).asin();
     let (z, y) = if x.cos() > 1e-9 {
@@ -116,9 +116,17 @@ fn mean<F: Fn(usize) -> f64>(frames: usize, f: F) -> f64 {
     (0..frames).map(f).sum::<f64>() / frames.max(1) as f64
 }
 
-/// Writes `motion`'s 3-D track as BVH (see the [module documentation](super)). Fails when
+/// Writes `motion`'s 3-D track as BVH (see the [module documentation](super)); a motion
+/// with a 3-D performer track is written with the whole performer instead (body, fingers,
+/// violin and bow: [`super::performer_joint_names`]). Fails when
 /// the motion has no 3-D track, no frames or a non-finite coordinate.
 pub fn write_bvh(motion: &Motion, mut out: impl Write) -> Result<()> {
+    if let Some(p) = motion
+        .performer()
+        .filter(|p| p.track_3d(crate::PerformerPart::Body).is_some())
+    {
+        return super::performer::write_performer_bvh(motion, p, out);
+    }
     let track = motion.frames_3d().ok_or(SkeletonError::MissingTrack {
         track: "3-D track",
         hint: "BVH needs 3-D joints; synthesize the motion with motion-synth",
