@@ -81,6 +81,26 @@ pub fn player_json(motion: &Motion) -> Result<String> {
         serde_json::to_string(&bones).unwrap_or_default(),
     );
     push_track(&mut out, motion.frames(), &layout);
+    if let Some(p) = motion.performer() {
+        // Every part's points concatenated per frame, and the segments between them.
+        let parts: Vec<&ndarray::Array3<f32>> = skeleton::PerformerPart::ALL
+            .iter()
+            .map(|&q| p.track(q))
+            .collect();
+        let all = ndarray::concatenate(
+            ndarray::Axis(1),
+            &parts.iter().map(|a| a.view()).collect::<Vec<_>>(),
+        )
+        .unwrap_or_else(|_| ndarray::Array3::zeros((motion.len(), 0, 2)));
+        out.push_str(",\"performer\":");
+        push_track(&mut out, &all, &layout);
+        let segs: Vec<(usize, usize, &str, f32)> = crate::performer_lines::performer_segments()
+            .into_iter()
+            .map(|(a, b, ink, w)| (a, b, ink.key(), w))
+            .collect();
+        out.push_str(",\"performer_segments\":");
+        out.push_str(&serde_json::to_string(&segs).unwrap_or_else(|_| "[]".into()));
+    }
     out.push_str(",\"instrument\":");
     match motion.instrument() {
         Some(t) => push_track(&mut out, t, &layout),

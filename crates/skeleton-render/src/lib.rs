@@ -34,6 +34,7 @@ mod error;
 mod files;
 mod gif_out;
 mod html;
+pub mod performer_lines;
 mod player_sound;
 mod png_out;
 
