@@ -40,6 +40,7 @@ mod json;
 mod npy;
 mod openpose;
 mod performer_json;
+mod track_json;
 
 use std::path::Path;
 

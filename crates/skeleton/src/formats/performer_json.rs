@@ -11,7 +11,7 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use super::json::{column_order, to_track, RawTrack, Track};
+use super::track_json::{column_order, to_track, RawTrack, Track};
 use crate::error::{Result, SkeletonError};
 use crate::performer::{PerformerPart, PerformerTrack};
 

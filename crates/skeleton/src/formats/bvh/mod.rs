@@ -63,6 +63,7 @@
 //! # Ok::<(), skeleton::SkeletonError>(())
 //! ```
 
+mod euler;
 mod parse;
 mod performer;
 mod write;

@@ -14,7 +14,7 @@ use std::io::Write;
 
 use ndarray::Array3;
 
-use super::write::euler_zxy;
+use super::euler::euler_zxy;
 use crate::body25::BodyPoint;
 use crate::error::{Result, SkeletonError};
 use crate::geometry::{Mat3, Vec3};
