@@ -217,7 +217,7 @@ pub struct PoseParts {
 const STICK_AT_FROG: f64 = 0.018;
 const STICK_AT_TIP: f64 = 0.008;
 /// How much closer to the frog the right wrist comes at full finger flexion, metres.
-const FLEX_PULL: f64 = 0.012;
+const FLEX_PULL: f64 = 0.004;
 
 /// Rotation taking violin-local axes (x: across the strings towards G, y: the top's normal,
 /// z: along the strings towards the scroll) into the torso frame.

@@ -254,10 +254,10 @@ pub fn synthesize_detailed(perf: &Performance, cfg: &SynthConfig) -> Result<Synt
     })
 }
 
-/// Right-hand finger flexion per frame: a bump of 0.1 s half-width around each bow change.
+/// Right-hand finger flexion per frame: a bump of 0.15 s half-width around each bow change.
 fn flex_track(changes: &[usize], frames: usize, fps: f64) -> Vec<f64> {
     let mut flex = vec![0.0; frames];
-    let half = (0.1 * fps).max(1.0);
+    let half = (0.15 * fps).max(1.0);
     let reach = (3.0 * half).ceil() as usize;
     for &c in changes {
         for (f, slot) in flex
