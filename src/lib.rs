@@ -55,7 +55,7 @@ pub use dsp_mel::{load_audio, load_audio_at, Audio, AudioReader};
 pub use motion_synth::{Camera, SynthConfig};
 pub use performance::Performance;
 pub use skeleton::formats::MotionFormat;
-pub use skeleton::Motion;
+pub use skeleton::{Canvas, Motion, PerformerTrack};
 
 pub use beat_track;
 pub use bowing_net;

@@ -14,7 +14,7 @@ use corpus::render::{BowedStringSynth, RenderSettings, Renderer};
 use corpus::timing::play;
 use pose_preproc::metrics::match_events_s;
 use violin_skeleton::fingering::OptimalPlanner;
-use violin_skeleton::{Audio, Pipeline};
+use violin_skeleton::{Audio, Canvas, Pipeline};
 
 use crate::error::CliError;
 use crate::generate::{write_motion, OutFormat};
@@ -89,10 +89,30 @@ pub fn run(args: &DemoArgs, report: &Reporter) -> Result<(), CliError> {
     let motion = pipeline.generate_from_analysis(&analysis)?;
     bar.inc(1);
     // 3. Every output.
-    write_motion(&motion, &out.join("motion.json"), OutFormat::Json)?;
-    write_motion(&motion, &out.join("openpose"), OutFormat::Openpose)?;
-    write_motion(&motion, &out.join("motion.bvh"), OutFormat::Bvh)?;
-    write_motion(&motion, &out.join("motion.glb"), OutFormat::Glb)?;
+    write_motion(
+        &motion,
+        &out.join("motion.json"),
+        OutFormat::Json,
+        Canvas::default(),
+    )?;
+    write_motion(
+        &motion,
+        &out.join("openpose"),
+        OutFormat::Openpose,
+        Canvas::default(),
+    )?;
+    write_motion(
+        &motion,
+        &out.join("motion.bvh"),
+        OutFormat::Bvh,
+        Canvas::default(),
+    )?;
+    write_motion(
+        &motion,
+        &out.join("motion.glb"),
+        OutFormat::Glb,
+        Canvas::default(),
+    )?;
     bar.inc(1);
     write_preview(&motion, &out.join("preview.gif"), SoundSource::None)?;
     let sound = SoundSource::Audio {

@@ -6,7 +6,7 @@ use std::time::Instant;
 use clap::{Args, ValueEnum};
 use violin_skeleton::skeleton::formats::OpenPoseOptions;
 use violin_skeleton::skeleton::PoseLayout;
-use violin_skeleton::{Method, Motion, MotionFormat, Pipeline, PipelineBuilder};
+use violin_skeleton::{Canvas, Method, Motion, MotionFormat, Pipeline, PipelineBuilder};
 
 use crate::batch::BatchArgs;
 use crate::contract::{check_outputs, named, refuse_stdout_folder, NamedPath};
@@ -106,6 +106,10 @@ pub struct GenerateArgs {
     /// Put the audio in the HTML player whatever its size (one self-contained page).
     #[arg(long)]
     pub embed_audio: bool,
+    /// OpenPose picture size WIDTHxHEIGHT: the performer (body, hands, violin, bow) is
+    /// fitted and centred at one scale for the whole clip, with 5 % margins.
+    #[arg(long, default_value = "1280x720")]
+    pub canvas: String,
     /// Also write the analysis (f0, notes, bow changes, beats, arousal) as JSON.
     #[arg(long)]
     pub analysis_out: Option<PathBuf>,
@@ -127,21 +131,37 @@ pub fn is_midi(path: &Path) -> bool {
     })
 }
 
-/// Writes `motion` to `path` in `format`.
-pub fn write_motion(motion: &Motion, path: &Path, format: OutFormat) -> Result<(), CliError> {
+/// Share of each side left free around the performer in OpenPose frames.
+pub const CANVAS_MARGIN: f64 = 0.05;
+
+/// Parses `--canvas WxH` (a usage error when it is not a size or too small for a person).
+pub fn parse_canvas(text: &str) -> Result<Canvas, CliError> {
+    text.parse::<Canvas>()
+        .map_err(|e| CliError::Usage(format!("--canvas: {e}")))
+}
+
+/// Writes `motion` to `path` in `format`; OpenPose frames are fitted to `canvas`.
+pub fn write_motion(
+    motion: &Motion,
+    path: &Path,
+    format: OutFormat,
+    canvas: Canvas,
+) -> Result<(), CliError> {
     match format {
         OutFormat::Json => motion.write(path, MotionFormat::Json)?,
         OutFormat::Csv => motion.write(path, MotionFormat::Csv)?,
         OutFormat::Npy => motion.write(path, MotionFormat::Npy)?,
-        OutFormat::Openpose => motion.write_openpose(
-            path,
-            &OpenPoseOptions {
-                layout: PoseLayout::Body25,
-                name_prefix: path
-                    .file_name()
-                    .map_or_else(|| "motion".into(), |n| n.to_string_lossy().to_string()),
-            },
-        )?,
+        OutFormat::Openpose => motion
+            .fitted_to_canvas(canvas, CANVAS_MARGIN)
+            .write_openpose(
+                path,
+                &OpenPoseOptions {
+                    layout: PoseLayout::Body25,
+                    name_prefix: path
+                        .file_name()
+                        .map_or_else(|| "motion".into(), |n| n.to_string_lossy().to_string()),
+                },
+            )?,
         OutFormat::Bvh => violin_skeleton::motion_synth::bvh::write_bvh_file(motion, path)
             .map_err(violin_skeleton::Error::from)?,
         OutFormat::Glb => motion.write(path, MotionFormat::Glb)?,
@@ -278,6 +298,7 @@ pub fn run(args: &GenerateArgs, report: &Reporter) -> Result<(), CliError> {
         }
     };
     check_generate_paths(args, format)?;
+    let canvas = parse_canvas(&args.canvas)?;
     let pipeline = args
         .limits
         .apply(pipeline_builder_for(
@@ -309,7 +330,7 @@ pub fn run(args: &GenerateArgs, report: &Reporter) -> Result<(), CliError> {
         midi_notes,
     } = made;
     let t_write = Instant::now();
-    write_motion(&motion, &args.output, format)?;
+    write_motion(&motion, &args.output, format, canvas)?;
     let mut preview_note = None;
     if let Some(p) = &args.preview {
         let source = if is_midi(&args.input) {
@@ -368,6 +389,7 @@ fn run_folder(args: &GenerateArgs, report: &Reporter) -> Result<(), CliError> {
             format.extension().unwrap_or_default()
         )));
     }
+    let canvas = parse_canvas(&args.canvas)?;
     let plan = crate::batch::plan(&args.input, &args.output, format.extension())?;
     let pipeline = args
         .limits
@@ -386,7 +408,7 @@ fn run_folder(args: &GenerateArgs, report: &Reporter) -> Result<(), CliError> {
         report,
         |input, output| {
             let made = make_motion(&pipeline, input, args.method, None, false, |_, _| {})?;
-            write_motion(&made.motion, output, format)
+            write_motion(&made.motion, output, format, canvas)
         },
     )
 }

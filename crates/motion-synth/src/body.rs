@@ -13,6 +13,8 @@
 //!   is a half cosine each way, so the head's velocity is continuous across bar lines.
 //!   Without downbeats the bars are `default_bar_s` long from time 0; before the first and
 //!   after the last downbeat the nearest bar length is repeated.
+//! * **Weight shift**: the hips move sideways to one foot over a bar and back over the
+//!   next (a half sine per bar, 8 mm calm … 20 mm excited), the pelvis rolling with them.
 
 use crate::interp::MonotoneCubic;
 use performance::Performance;
@@ -78,9 +80,20 @@ pub struct BodyTrack {
     pub torso_pitch_rad: Vec<f64>,
     /// Head nod, radians, positive forward.
     pub head_pitch_rad: Vec<f64>,
+    /// Weight shift: the hips' sideways displacement, metres (+ towards the player's left),
+    /// from one foot to the other over each bar.
+    pub hip_shift_m: Vec<f64>,
+    /// Pelvis roll going with the weight shift, radians.
+    pub hip_roll_rad: Vec<f64>,
     /// Bar lines used for the sway (seconds), covering the whole performance.
     pub bar_lines_s: Vec<f64>,
 }
+
+/// Weight shift each way for a calm (arousal −1) and an excited (+1) bar, metres.
+const SHIFT_CALM_M: f64 = 0.008;
+const SHIFT_EXCITED_M: f64 = 0.02;
+/// Pelvis roll per metre of weight shift, radians.
+const ROLL_PER_M: f64 = 1.2;
 
 /// Bar lines covering `[0, duration_s]`: the downbeats, extended before and after by the
 /// nearest bar length (or `default_bar_s`).
@@ -178,6 +191,7 @@ pub fn body_track(perf: &Performance, fps: f64, frames: usize, cfg: &BodyConfig)
     }
     let extent = MonotoneCubic::new(centres, extents);
     let mut head_pitch_rad = vec![0.0; frames];
+    let mut hip_shift_m = vec![0.0; frames];
     let (mut bar, mut cursor) = (0usize, 0usize);
     for (f, h) in head_pitch_rad.iter_mut().enumerate() {
         let t = f as f64 / fps;
@@ -189,12 +203,23 @@ pub fn body_track(perf: &Performance, fps: f64, frames: usize, cfg: &BodyConfig)
         }
         let (start, end) = (lines[bar], lines[bar + 1]);
         let u = ((t - start) / (end - start)).clamp(0.0, 1.0);
-        *h = extent.eval_from(&mut cursor, t) * sway_shape(u, shares[bar]);
+        let e = extent.eval_from(&mut cursor, t);
+        *h = e * sway_shape(u, shares[bar]);
+        // Weight moves to one foot over a bar and back over the next (zero at bar lines).
+        let excitement = ((e.to_degrees() - cfg.sway_min_deg)
+            / (cfg.sway_max_deg - cfg.sway_min_deg).max(1e-9))
+        .clamp(0.0, 1.0);
+        let amplitude = SHIFT_CALM_M + (SHIFT_EXCITED_M - SHIFT_CALM_M) * excitement;
+        let sign = if bar % 2 == 0 { 1.0 } else { -1.0 };
+        hip_shift_m[f] = sign * amplitude * (std::f64::consts::PI * u).sin();
     }
+    let hip_roll_rad = hip_shift_m.iter().map(|s| s * ROLL_PER_M).collect();
     BodyTrack {
         arousal,
         torso_pitch_rad,
         head_pitch_rad,
+        hip_shift_m,
+        hip_roll_rad,
         bar_lines_s: lines,
     }
 }

@@ -44,21 +44,25 @@ mod bow_profile;
 mod bow_stroke;
 pub use skeleton::formats::bvh;
 mod camera;
+pub mod contact;
 mod error;
 pub mod geometry;
+pub mod hands;
 pub mod ik;
 pub mod interp;
 pub mod left_hand;
 pub mod metrics;
+pub mod performer;
 mod rig;
 mod synth;
+pub mod violin;
 
 pub use body::BodyConfig;
 pub use bow::{BowDirection, BowPlan, BowPolicy, PlannedStroke};
 pub use camera::Camera;
 pub use error::{Result, SynthError};
 pub use left_hand::LeftHandConfig;
-pub use rig::{BowGeometry, Pose, PoseInput, Rig, ViolinGeometry};
+pub use rig::{BowGeometry, Pose, PoseInput, PoseParts, Rig, ViolinGeometry};
 pub use synth::{synthesize, synthesize_detailed, SynthConfig, Synthesis};
 
 /// The README's example, compiled and run as a doctest.

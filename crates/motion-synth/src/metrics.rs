@@ -4,6 +4,7 @@ use ndarray::{Array3, Axis};
 use serde::Serialize;
 use skeleton::Motion;
 
+use crate::contact;
 use crate::synth::Synthesis;
 use performance::Performance;
 
@@ -115,6 +116,14 @@ pub struct MotionReport {
     pub beat_alignment: Option<f64>,
     /// Frames where a wrist missed its target.
     pub unreached_frames: usize,
+    /// Share of sounding frames with the bow hair within 5 mm of the played string.
+    pub bow_string_contact: Option<f64>,
+    /// Share of stopped-note frames with the playing fingertip within 5 mm of its string.
+    pub fingertip_string_contact: Option<f64>,
+    /// Mean 2-D acceleration of the 42 hand points, pixels / frame².
+    pub hand_jitter_px: Option<f32>,
+    /// Largest bone-length CV of the whole performer (body, hands, instrument; 3-D).
+    pub performer_bone_length_cv: Option<f32>,
 }
 
 impl MotionReport {
@@ -128,6 +137,23 @@ impl MotionReport {
             jitter_px: jitter(m),
             beat_alignment: beat_alignment(m, perf.beats_s(), 3.0),
             unreached_frames: synthesis.unreached_frames,
+            bow_string_contact: crate::left_hand::resolve_fingerings(perf.notes())
+                .ok()
+                .and_then(|fingerings| {
+                    let played =
+                        contact::played_strings(perf.notes(), &fingerings, m.fps(), m.len());
+                    contact::bow_string_contact(m, &played, contact::CONTACT_TOLERANCE_M)
+                }),
+            fingertip_string_contact: {
+                let pressed: Vec<Option<(u8, u8)>> = synthesis
+                    .fingers
+                    .iter()
+                    .map(|f| f.down.map(|d| (d.finger, d.string)))
+                    .collect();
+                contact::fingertip_string_contact(m, &pressed, contact::CONTACT_TOLERANCE_M)
+            },
+            hand_jitter_px: contact::hand_jitter_px(m),
+            performer_bone_length_cv: m.performer().map(|p| p.max_bone_length_cv()),
         }
     }
 }

@@ -9,7 +9,7 @@
 
 use skeleton::{InstrumentPoint, Joint, JOINT_COUNT};
 
-use crate::geometry::{Mat3, Vec3};
+use crate::geometry::{Mat3, Transform, Vec3};
 use crate::ik::two_link;
 
 /// The violin's place and shape (metres, degrees). It lies on the left collarbone with its
@@ -32,10 +32,14 @@ pub struct ViolinGeometry {
     pub bridge_from_end: f64,
     /// Vibrating string length, bridge → nut.
     pub string_length: f64,
-    /// Height of the strings above the top at the bow's contact point.
+    /// Height of the middle strings above the top at the bridge.
     pub string_height: f64,
-    /// Distance between neighbouring strings at the contact point.
+    /// Distance between neighbouring strings at the bridge.
     pub string_spacing: f64,
+    /// Height of the middle strings above the top's plane at the nut (the fingerboard).
+    pub nut_string_height: f64,
+    /// Distance between neighbouring strings at the nut.
+    pub nut_string_spacing: f64,
     /// Bow contact point's distance from the bridge towards the fingerboard.
     pub contact_from_bridge: f64,
     /// Elevation of the bow's tip above the top plate when playing G, D, A, E (degrees;
@@ -56,6 +60,8 @@ impl Default for ViolinGeometry {
             string_length: 0.328,
             string_height: 0.03,
             string_spacing: 0.0113,
+            nut_string_height: 0.02,
+            nut_string_spacing: 0.0055,
             contact_from_bridge: 0.025,
             string_angles_deg: [-12.0, -4.0, 4.0, 12.0],
         }
@@ -163,6 +169,12 @@ pub struct PoseInput {
     /// Left hand's place along the neck, semitones from the nut
     /// ([`fingering::Fingering::hand_offset_semitones`]).
     pub hand_semitones: f64,
+    /// Weight shift: the hips' sideways displacement, metres (+ towards the player's left).
+    pub hip_shift_m: f64,
+    /// Pelvis roll with the weight shift, radians (+ raises the left hip).
+    pub hip_roll_rad: f64,
+    /// Right-hand finger flexion, 0 (relaxed) … 1 (flexed, at a bow change).
+    pub right_flex: f64,
 }
 
 /// One frame's 3-D pose, world frame.
@@ -174,11 +186,42 @@ pub struct Pose {
     pub instrument: [Vec3; 4],
     /// `false` when a wrist could not reach its target (the rig is badly proportioned).
     pub reached: bool,
+    /// The frames the pose was built in, for the hands, legs and instrument parts.
+    pub parts: PoseParts,
 }
+
+/// The frames and anchor points of one pose (torso frame unless said otherwise), from which
+/// the whole performer (hands, legs, head, violin and bow parts) is built.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PoseParts {
+    /// Torso frame → world.
+    pub torso: Transform,
+    /// Head rotation relative to the torso (about the neck).
+    pub head: Mat3,
+    /// Violin-local axes → torso frame (x across the strings towards G, y the top's
+    /// normal, z along the strings towards the scroll).
+    pub violin: Mat3,
+    /// Where the bow's hair line (through the contact point) meets the frog end.
+    pub hair_frog: Vec3,
+    /// Unit direction from frog to tip.
+    pub bow_dir: Vec3,
+    /// Unit direction from the hair to the stick.
+    pub stick_up: Vec3,
+    /// Right wrist (IK result).
+    pub r_wrist: Vec3,
+    /// Left wrist (IK result).
+    pub l_wrist: Vec3,
+}
+
+/// Height of the stick above the hair at the frog and at the tip, metres.
+const STICK_AT_FROG: f64 = 0.018;
+const STICK_AT_TIP: f64 = 0.008;
+/// How much closer to the frog the right wrist comes at full finger flexion, metres.
+const FLEX_PULL: f64 = 0.004;
 
 /// Rotation taking violin-local axes (x: across the strings towards G, y: the top's normal,
 /// z: along the strings towards the scroll) into the torso frame.
-fn violin_rotation(v: &ViolinGeometry) -> Mat3 {
+pub(crate) fn violin_rotation(v: &ViolinGeometry) -> Mat3 {
     Mat3::rot_y(v.yaw_deg.to_radians())
         * Mat3::rot_x(-v.pitch_deg.to_radians())
         * Mat3::rot_z(v.roll_deg.to_radians())
@@ -226,22 +269,19 @@ impl Rig {
 
         // Bow: the hair crosses the bowed string at the contact point.
         let s = input.string_index.clamp(0.0, 3.0);
-        let arc = 0.004 * (s - 1.5) * (s - 1.5);
-        let contact = on_violin(
-            (1.5 - s) * v.string_spacing,
-            v.string_height - arc,
-            v.bridge_from_end + v.contact_from_bridge,
-        );
+        let contact = v.end_button + vrot * v.string_local(s, v.contact_from_bridge);
         let p = input.bow_position.clamp(0.0, 1.0);
         let tilt = Mat3::rot_y(-(self.bow.skew_at_tip_deg * p).to_radians())
             * Mat3::rot_z(self.string_angle(s));
         let bow_dir = vrot * (tilt * Vec3::X);
         let stick_up = vrot * (tilt * Vec3::Y);
-        let frog = contact - bow_dir * (self.bow.frog_margin + self.bow.hair_length * p);
-        let tip = frog + bow_dir * self.bow.length;
+        let hair_frog = contact - bow_dir * (self.bow.frog_margin + self.bow.hair_length * p);
+        let frog = hair_frog + stick_up * STICK_AT_FROG;
+        let tip = hair_frog + bow_dir * self.bow.length + stick_up * STICK_AT_TIP;
         let to_shoulder = (r_shoulder - frog).normalized_or(Vec3::Y);
         let hand_dir = (to_shoulder + stick_up * 0.6).normalized_or(Vec3::Y);
-        let r_target = frog + hand_dir * self.hand_length;
+        let reach = self.hand_length - FLEX_PULL * input.right_flex.clamp(0.0, 1.0);
+        let r_target = frog + hand_dir * reach;
         let right = two_link(
             r_shoulder,
             r_target,
@@ -253,7 +293,7 @@ impl Rig {
         // Left hand: wrist under the neck, at the fingered place.
         let nut = v.bridge_from_end + v.string_length;
         let along =
-            (nut - self.stop_distance(input.hand_semitones) + 0.01).max(v.body_length - 0.01);
+            (nut - self.stop_distance(input.hand_semitones) + 0.01).max(v.body_length - 0.07);
         let l_target = on_violin(0.01, -0.05, along);
         let left = two_link(
             l_shoulder,
@@ -263,9 +303,11 @@ impl Rig {
             self.left_elbow_pole,
         );
 
-        let torso = Mat3::rot_x(input.torso_pitch_rad);
-        let base = self.hip_centre();
-        let w = |p: Vec3| base + torso * p;
+        let torso = Transform {
+            rotation: Mat3::rot_z(input.hip_roll_rad) * Mat3::rot_x(input.torso_pitch_rad),
+            translation: self.hip_centre() + Vec3::X * input.hip_shift_m,
+        };
+        let w = |p: Vec3| torso.apply(p);
         let mut joints = [Vec3::ZERO; JOINT_COUNT];
         for (joint, p) in [
             (Joint::Nose, nose),
@@ -294,6 +336,16 @@ impl Rig {
             joints,
             instrument,
             reached: right.reached && left.reached,
+            parts: PoseParts {
+                torso,
+                head,
+                violin: vrot,
+                hair_frog,
+                bow_dir,
+                stick_up,
+                r_wrist: right.wrist,
+                l_wrist: left.wrist,
+            },
         }
     }
 }

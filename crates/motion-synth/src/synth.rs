@@ -1,13 +1,14 @@
 //! [`synthesize`]: a [`Performance`] → a [`Motion`] (3-D rig, 2-D pixels, instrument).
 
 use ndarray::Array3;
-use skeleton::{InstrumentPoint, Motion, JOINT_COUNT};
+use skeleton::{InstrumentPoint, Motion, PerformerPart, PerformerTrack, JOINT_COUNT};
 
 use crate::body::{body_track, BodyConfig, BodyTrack};
 use crate::bow::{change_frames, plan_bow, plan_bow_directed, BowPlan, BowPolicy};
 use crate::camera::Camera;
 use crate::error::{Result, SynthError};
 use crate::left_hand::{glide_track, left_hand_tracks, resolve_fingerings, LeftHandConfig};
+use crate::performer::{finger_plan, FingerFrame, PerformerBuilder};
 use crate::rig::{PoseInput, Rig};
 use performance::BowStroke;
 use performance::Performance;
@@ -84,6 +85,8 @@ pub struct Synthesis {
     pub hand_semitones: Vec<f64>,
     /// Frames where a wrist could not reach its target (0 with the default rig).
     pub unreached_frames: usize,
+    /// What the left fingers do per frame (which one is down where, which prepares).
+    pub fingers: Vec<FingerFrame>,
 }
 
 /// Turns a performance into a 30 fps (by default) violinist skeleton: the bow planner
@@ -172,6 +175,13 @@ pub fn synthesize_detailed(perf: &Performance, cfg: &SynthConfig) -> Result<Synt
     let mut inst_3d = Array3::<f32>::zeros((frames, points, 3));
     let project = cfg.camera.projector();
     let mut unreached_frames = 0;
+    let fingers = finger_plan(perf.notes(), &fingerings, fps, frames);
+    let flex = flex_track(&bow.change_frames(), frames, fps);
+    let mut builder = PerformerBuilder::new(fps);
+    let shape =
+        |part: PerformerPart, dims: usize| Array3::<f32>::zeros((frames, part.point_count(), dims));
+    let mut perf_2d = PerformerPart::ALL.map(|p| shape(p, 2));
+    let mut perf_3d = PerformerPart::ALL.map(|p| shape(p, 3));
     for f in 0..frames {
         let input = PoseInput {
             torso_pitch_rad: body.torso_pitch_rad[f],
@@ -179,6 +189,9 @@ pub fn synthesize_detailed(perf: &Performance, cfg: &SynthConfig) -> Result<Synt
             bow_position: f64::from(bow.positions()[f]),
             string_index: string_index[f],
             hand_semitones: hand_semitones[f],
+            hip_shift_m: body.hip_shift_m[f],
+            hip_roll_rad: body.hip_roll_rad[f],
+            right_flex: flex[f],
         };
         let pose = cfg.rig.pose(&input);
         if !pose.reached {
@@ -190,6 +203,29 @@ pub fn synthesize_detailed(perf: &Performance, cfg: &SynthConfig) -> Result<Synt
             joints_2d[[f, j, 1]] = y as f32;
             for (c, v) in p.to_array().into_iter().enumerate() {
                 joints_3d[[f, j, c]] = v as f32;
+            }
+        }
+        let whole = builder.frame(
+            &cfg.rig,
+            &pose,
+            &fingers[f],
+            string_index[f],
+            hand_semitones[f],
+        );
+        let groups: [&[crate::geometry::Vec3]; 4] = [
+            &whole.body,
+            &whole.left_hand,
+            &whole.right_hand,
+            &whole.instrument,
+        ];
+        for (g, points) in groups.into_iter().enumerate() {
+            for (k, p) in points.iter().enumerate() {
+                let [x, y] = project(*p);
+                perf_2d[g][[f, k, 0]] = x as f32;
+                perf_2d[g][[f, k, 1]] = y as f32;
+                for (c, v) in p.to_array().into_iter().enumerate() {
+                    perf_3d[g][[f, k, c]] = v as f32;
+                }
             }
         }
         for (i, p) in pose.instrument.iter().enumerate() {
@@ -205,6 +241,7 @@ pub fn synthesize_detailed(perf: &Performance, cfg: &SynthConfig) -> Result<Synt
         .with_3d(joints_3d)?
         .with_instrument(inst_2d)?
         .with_instrument_3d(inst_3d)?
+        .with_performer(PerformerTrack::new(perf_2d)?.with_3d(perf_3d)?)?
         .with_image_size(cfg.camera.width_px, cfg.camera.height_px);
     Ok(Synthesis {
         motion,
@@ -213,5 +250,25 @@ pub fn synthesize_detailed(perf: &Performance, cfg: &SynthConfig) -> Result<Synt
         string_index,
         hand_semitones,
         unreached_frames,
+        fingers,
     })
+}
+
+/// Right-hand finger flexion per frame: a bump of 0.15 s half-width around each bow change.
+fn flex_track(changes: &[usize], frames: usize, fps: f64) -> Vec<f64> {
+    let mut flex = vec![0.0; frames];
+    let half = (0.15 * fps).max(1.0);
+    let reach = (3.0 * half).ceil() as usize;
+    for &c in changes {
+        for (f, slot) in flex
+            .iter_mut()
+            .enumerate()
+            .take((c + reach).min(frames))
+            .skip(c.saturating_sub(reach))
+        {
+            let d = (f as f64 - c as f64) / half;
+            *slot = f64::max(*slot, (-d * d).exp());
+        }
+    }
+    flex
 }

@@ -25,9 +25,96 @@ fn motion() -> Motion {
     synthesize(&perf, &SynthConfig::default()).unwrap()
 }
 
+/// The motion's core tracks only (as read from a file without a performer).
+fn core_only(m: &Motion) -> Motion {
+    Motion::new(m.fps(), m.frames().clone())
+        .unwrap()
+        .with_3d(m.frames_3d().unwrap().clone())
+        .unwrap()
+}
+
+#[test]
+fn performer_bvh_has_fingers_violin_and_bow_and_reproduces_every_point() {
+    use skeleton::{BodyPoint, Finger, InstrumentPart, PerformerPart};
+    let m = motion();
+    let mut bytes = Vec::new();
+    write_bvh(&m, &mut bytes).unwrap();
+    let bvh = parse_bvh(std::str::from_utf8(&bytes).unwrap()).unwrap();
+    assert!(bvh.joints.len() >= 40, "{} joints", bvh.joints.len());
+    assert_eq!(bvh.frames.len(), m.len());
+    let p = m.performer().unwrap();
+    let get = |part: PerformerPart, f: usize, k: usize| {
+        let t = p.track_3d(part).unwrap();
+        [t[[f, k, 0]], t[[f, k, 1]], t[[f, k, 2]]].map(f64::from)
+    };
+    let checks: Vec<(&str, PerformerPart, usize)> = vec![
+        ("Hips", PerformerPart::Body, BodyPoint::MidHip.index()),
+        ("Nose", PerformerPart::Body, BodyPoint::Nose.index()),
+        ("LeftEar", PerformerPart::Body, BodyPoint::LEar.index()),
+        ("RightWrist", PerformerPart::Body, BodyPoint::RWrist.index()),
+        ("LeftLeg", PerformerPart::Body, BodyPoint::LKnee.index()),
+        ("RightHeel", PerformerPart::Body, BodyPoint::RHeel.index()),
+        (
+            "LeftHandIndex4",
+            PerformerPart::LeftHand,
+            Finger::Index.tip(),
+        ),
+        (
+            "LeftHandPinky4",
+            PerformerPart::LeftHand,
+            Finger::Pinky.tip(),
+        ),
+        (
+            "LeftHandThumb2",
+            PerformerPart::LeftHand,
+            Finger::Thumb.point(2),
+        ),
+        (
+            "RightHandMiddle3",
+            PerformerPart::RightHand,
+            Finger::Middle.point(3),
+        ),
+        (
+            "Violin",
+            PerformerPart::Instrument,
+            InstrumentPart::ViolinEndButton.index(),
+        ),
+        (
+            "StringENut",
+            PerformerPart::Instrument,
+            InstrumentPart::StringAtNut(3).index(),
+        ),
+        (
+            "Bow",
+            PerformerPart::Instrument,
+            InstrumentPart::BowFrog.index(),
+        ),
+        (
+            "BowHairTip",
+            PerformerPart::Instrument,
+            InstrumentPart::BowHairTip.index(),
+        ),
+    ];
+    let mut worst = 0.0f64;
+    for f in (0..m.len()).step_by(7) {
+        let fk = bvh.forward_kinematics(f).unwrap();
+        for (name, part, k) in &checks {
+            let at = fk[bvh.joint_index(name).unwrap_or_else(|| panic!("{name}"))];
+            let want = get(*part, f, *k);
+            for c in 0..3 {
+                worst = worst.max((at[c] / 100.0 - want[c]).abs());
+            }
+        }
+    }
+    assert!(worst < 1e-3, "forward kinematics off by {worst} m");
+    // Y up: the nose is above the hips in the rest pose.
+    let nose = bvh.forward_kinematics(0).unwrap()[bvh.joint_index("Nose").unwrap()];
+    assert!(nose[1] > 150.0, "{nose:?}");
+}
+
 #[test]
 fn written_bvh_parses_back_and_reproduces_the_joints() {
-    let m = motion();
+    let m = core_only(&motion());
     let mut bytes = Vec::new();
     write_bvh(&m, &mut bytes).unwrap();
     let text = String::from_utf8(bytes).unwrap();

@@ -99,13 +99,17 @@ pub struct Layout {
 pub(crate) const HEAD_RADIUS_PER_NECK: f32 = 0.42;
 
 impl Layout {
-    /// Fits `motion` into the picture: the motion's image (when its size is known) fills
-    /// the picture, else the bounding box of every finite point over all frames fills 90 %
+    /// Fits `motion` into the picture: the motion's image (when its size is known and it
+    /// has no whole-performer track) fills the picture, else the bounding box of every finite point over all frames fills 90 %
     /// of it; then [`RenderConfig::scale`] zooms.
     pub fn fit(motion: &Motion, cfg: &RenderConfig) -> Result<Layout> {
         let (w, h) = (cfg.width as f32, cfg.height as f32);
         let out_centre = [w / 2.0, h / 2.0];
-        if let Some((iw, ih)) = motion.image_size().filter(|&(a, b)| a > 0 && b > 0) {
+        let whole_performer = motion.performer().is_some();
+        if let Some((iw, ih)) = motion
+            .image_size()
+            .filter(|&(a, b)| a > 0 && b > 0 && !whole_performer)
+        {
             let (iw, ih) = (iw as f32, ih as f32);
             return Ok(Layout {
                 centre: [iw / 2.0, ih / 2.0],
@@ -115,8 +119,7 @@ impl Layout {
         }
         let mut lo = [f32::INFINITY; 2];
         let mut hi = [f32::NEG_INFINITY; 2];
-        let tracks = std::iter::once(motion.frames()).chain(motion.instrument());
-        for track in tracks {
+        for track in motion.tracks_2d() {
             for p in track.rows() {
                 if p[0].is_finite() && p[1].is_finite() {
                     for c in 0..2 {

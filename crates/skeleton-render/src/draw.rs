@@ -241,6 +241,23 @@ impl FramePainter {
                 self.line(ink, p, q, lw * 1.4);
             }
         }
+        if motion.performer().is_some() {
+            use crate::performer_lines::{performer_point, performer_segments, Ink};
+            for (a, b, ink, width) in performer_segments() {
+                let ink = match ink {
+                    Ink::Trunk => TRUNK,
+                    Ink::Right => RIGHT,
+                    Ink::Left => LEFT,
+                    Ink::Head => HEAD,
+                    Ink::ViolinDark => VIOLIN_DARK,
+                    Ink::Bow => BOW,
+                };
+                let map = |k| performer_point(motion, f, k).map(|(x, y)| layout.map(x, y));
+                if let (Some(p), Some(q)) = (map(a), map(b)) {
+                    self.line(ink, p, q, (lw * width).max(1.0));
+                }
+            }
+        }
         if let Some((_, _, Some(frog), Some(tip))) = inst {
             self.line(BOW, frog, tip, (lw * 0.7).max(1.0));
             self.dot(FROG, frog, lw * 1.0);

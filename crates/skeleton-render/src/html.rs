@@ -36,6 +36,47 @@ fn push_point(out: &mut String, x: f32, y: f32, layout: &Layout) {
     }
 }
 
+/// Every how many frames the player gets the performer's points (hands, legs, strings).
+const PERFORMER_STEP: usize = 2;
+
+/// The performer for the player, kept small (a 3-minute page stays under 3 MiB): only the
+/// points the segments use, in whole canvas pixels, every [`PERFORMER_STEP`]th frame;
+/// `performer_segments` index into that list of points.
+fn push_performer(out: &mut String, motion: &Motion, layout: &Layout) {
+    use crate::performer_lines::{performer_point, performer_segments};
+    let segments = performer_segments();
+    let mut used: Vec<usize> = segments.iter().flat_map(|s| [s.0, s.1]).collect();
+    used.sort_unstable();
+    used.dedup();
+    let slot = |k: usize| used.binary_search(&k).unwrap_or(0);
+    let _ = write!(out, ",\"performer_step\":{PERFORMER_STEP},\"performer\":[");
+    for (n, f) in (0..motion.len()).step_by(PERFORMER_STEP).enumerate() {
+        if n > 0 {
+            out.push(',');
+        }
+        out.push('[');
+        for (i, &k) in used.iter().enumerate() {
+            if i > 0 {
+                out.push(',');
+            }
+            match performer_point(motion, f, k).map(|(x, y)| layout.map(x, y)) {
+                Some((x, y)) => {
+                    let _ = write!(out, "{},{}", x.round(), y.round());
+                }
+                None => out.push_str("null,null"),
+            }
+        }
+        out.push(']');
+    }
+    out.push(']');
+    let segs: Vec<(usize, usize, &str, f32)> = segments
+        .iter()
+        .map(|&(a, b, ink, w)| (slot(a), slot(b), ink.key(), w))
+        .collect();
+    out.push_str(",\"performer_segments\":");
+    out.push_str(&serde_json::to_string(&segs).unwrap_or_else(|_| "[]".into()));
+}
+
 fn push_track(out: &mut String, track: &ndarray::Array3<f32>, layout: &Layout) {
     out.push('[');
     for (f, frame) in track.outer_iter().enumerate() {
@@ -81,6 +122,9 @@ pub fn player_json(motion: &Motion) -> Result<String> {
         serde_json::to_string(&bones).unwrap_or_default(),
     );
     push_track(&mut out, motion.frames(), &layout);
+    if motion.performer().is_some() {
+        push_performer(&mut out, motion, &layout);
+    }
     out.push_str(",\"instrument\":");
     match motion.instrument() {
         Some(t) => push_track(&mut out, t, &layout),

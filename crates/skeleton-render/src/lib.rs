@@ -37,6 +37,7 @@ mod files;
 mod gif_out;
 mod html;
 mod mp4_out;
+pub mod performer_lines;
 mod player_sound;
 mod png_out;
 

@@ -107,6 +107,9 @@ pub enum SkeletonError {
     /// Writing to a stream failed.
     #[error("write failed: {0}")]
     Write(#[from] std::io::Error),
+    /// A canvas size (`--canvas WxH`) that is not a size or cannot hold a person.
+    #[error("canvas {0}")]
+    InvalidCanvas(String),
     /// A BVH text is malformed.
     #[error("BVH line {line}: {reason}")]
     BvhParse {

@@ -5,6 +5,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{Result, SkeletonError};
 use crate::joint::JOINT_COUNT;
+use crate::performer::PerformerTrack;
 
 /// Points on the instrument carried with a motion (violin and bow as rigid objects).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -64,6 +65,7 @@ pub struct Motion {
     instrument: Option<Array3<f32>>,
     instrument_3d: Option<Array3<f32>>,
     image_size: Option<(u32, u32)>,
+    performer: Option<PerformerTrack>,
 }
 
 fn check_shape(a: &Array3<f32>, points: usize, dims: usize, frames: Option<usize>) -> Result<()> {
@@ -94,6 +96,7 @@ impl Motion {
             instrument: None,
             instrument_3d: None,
             image_size: None,
+            performer: None,
         })
     }
 
@@ -122,6 +125,25 @@ impl Motion {
     pub fn with_image_size(mut self, width: u32, height: u32) -> Self {
         self.image_size = Some((width, height));
         self
+    }
+
+    /// Attaches the whole performer (BODY_25 body, hands, violin and bow); it must have the
+    /// motion's number of frames. Its body points at the core joints should hold the same
+    /// coordinates as the core track (`motion-synth` writes them so).
+    pub fn with_performer(mut self, performer: PerformerTrack) -> Result<Self> {
+        if performer.len() != self.len() {
+            return Err(SkeletonError::Shape {
+                expected: format!("a performer track of {} frames", self.len()),
+                got: vec![performer.len()],
+            });
+        }
+        self.performer = Some(performer);
+        Ok(self)
+    }
+
+    /// The whole performer, when present (motions read from older files have none).
+    pub fn performer(&self) -> Option<&PerformerTrack> {
+        self.performer.as_ref()
     }
 
     /// Frames per second.
@@ -191,19 +213,38 @@ impl Motion {
         ((sx / n) as f32, (sy / n) as f32)
     }
 
-    /// Subtracts [`Motion::mean_xy`] from every 2-D point (and instrument point), so the
+    /// Every 2-D track the motion has (core, instrument, performer parts), for reading.
+    pub fn tracks_2d(&self) -> Vec<&Array3<f32>> {
+        let mut out = vec![&self.frames];
+        out.extend(self.instrument.as_ref());
+        if let Some(p) = &self.performer {
+            out.extend(crate::PerformerPart::ALL.map(|part| p.track(part)));
+        }
+        out
+    }
+
+    /// Applies `f` to every 2-D point of every track (core, instrument, performer).
+    pub(crate) fn map_points_2d(&mut self, f: impl Fn(f32, f32) -> (f32, f32)) {
+        let apply = |mut a: ndarray::ArrayViewMut3<'_, f32>| {
+            for mut p in a.rows_mut() {
+                let (x, y) = f(p[0], p[1]);
+                p[0] = x;
+                p[1] = y;
+            }
+        };
+        apply(self.frames.view_mut());
+        if let Some(i) = self.instrument.as_mut() {
+            apply(i.view_mut());
+        }
+        if let Some(p) = self.performer.as_mut() {
+            p.tracks_mut().for_each(apply);
+        }
+    }
+
+    /// Subtracts [`Motion::mean_xy`] from every 2-D point (instrument and performer points too), so the
     /// motion is centred on the origin.
     pub fn center(&mut self) {
         let (mx, my) = self.mean_xy();
-        let shift = |a: &mut Array3<f32>| {
-            for mut p in a.rows_mut() {
-                p[0] -= mx;
-                p[1] -= my;
-            }
-        };
-        shift(&mut self.frames);
-        if let Some(i) = self.instrument.as_mut() {
-            shift(i);
-        }
+        self.map_points_2d(|x, y| (x - mx, y - my));
     }
 }

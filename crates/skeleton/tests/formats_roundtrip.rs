@@ -195,13 +195,13 @@ fn openpose_files_follow_openpose_schema_in_both_layouts() {
         assert_eq!(v["version"], serde_json::json!(1.3));
         let person = &v["people"][0];
         assert_eq!(person["person_id"], serde_json::json!([-1]));
-        for key in [
-            "face_keypoints_2d",
-            "hand_left_keypoints_2d",
-            "hand_right_keypoints_2d",
-            "pose_keypoints_3d",
-        ] {
+        for key in ["face_keypoints_2d", "pose_keypoints_3d"] {
             assert_eq!(person[key], serde_json::json!([]), "{key}");
+        }
+        // No hands in the motion: 21 points each, all with confidence 0.
+        for key in ["hand_left_keypoints_2d", "hand_right_keypoints_2d"] {
+            let hand: Vec<f32> = serde_json::from_value(person[key].clone()).unwrap();
+            assert_eq!(hand, vec![0.0; 63], "{key}");
         }
         let kp: Vec<f32> = serde_json::from_value(person["pose_keypoints_2d"].clone()).unwrap();
         assert_eq!(kp.len(), 3 * layout.keypoint_count());

@@ -206,6 +206,9 @@ fn direction_blind(perf: &Performance, truth: &Motion) -> Res<(Motion, f32)> {
             bow_position: 1.0 - f64::from(syn.bow.positions()[f]),
             string_index: syn.string_index[f],
             hand_semitones: syn.hand_semitones[f],
+            hip_shift_m: syn.body.hip_shift_m[f],
+            hip_roll_rad: syn.body.hip_roll_rad[f],
+            right_flex: 0.0,
         });
         for (j, p) in pose.joints.iter().enumerate() {
             let xy = project(*p);

@@ -29,12 +29,15 @@ const START_GUARD_S: f64 = 0.1;
 pub fn evaluate_recording(pipeline: &Pipeline, rec: &LabelledRecording) -> Result<RecordingScores> {
     let refs = rec.references()?;
     let t0 = Instant::now();
+    let mut contact = (None, None);
     let (analysis, motion, bow_range) = match pipeline.method() {
         Method::Rules => {
             let analysis = pipeline.analyze_file(&rec.audio, |_, _| {})?;
             let perf = pipeline.performance(&analysis)?;
             let out = motion_synth::synthesize_detailed(&perf, pipeline.synth_config())?;
             let violations = motion_synth::metrics::bow_range_violations(out.bow.positions());
+            let report = motion_synth::metrics::MotionReport::measure(&out, &perf);
+            contact = (report.bow_string_contact, report.fingertip_string_contact);
             (Some(analysis), out.motion, Some(violations))
         }
         Method::Gru => (None, pipeline.generate_file(&rec.audio, |_, _| {})?, None),
@@ -73,6 +76,9 @@ pub fn evaluate_recording(pipeline: &Pipeline, rec: &LabelledRecording) -> Resul
         ),
         bowing_attacks_3f: None,
         bow_range_violations: bow_range,
+        bow_string_contact: contact.0,
+        fingertip_string_contact: contact.1,
+        hand_jitter_px: motion_synth::contact::hand_jitter_px(&motion).map(f64::from),
         beat_alignment: refs
             .beats_s
             .as_ref()

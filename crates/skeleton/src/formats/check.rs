@@ -23,6 +23,15 @@ pub(crate) fn check_writable(motion: &Motion, path: &Path, all_tracks: bool) -> 
         });
     }
     check_finite(motion.frames(), "frames", path, true)?;
+    if let Some(p) = motion.performer() {
+        for part in crate::PerformerPart::ALL {
+            let name = format!("performer.{}", part.name());
+            check_finite(p.track(part), &name, path, false)?;
+            if let Some(t) = p.track_3d(part).filter(|_| all_tracks) {
+                check_finite(t, &format!("{name}_3d"), path, false)?;
+            }
+        }
+    }
     if all_tracks {
         if let Some(t) = motion.frames_3d() {
             check_finite(t, "frames_3d", path, true)?;
@@ -44,9 +53,18 @@ fn check_finite(track: &Array3<f32>, name: &str, path: &Path, joints: bool) -> R
         Some(((t, p, c), v)) => Err(SkeletonError::NonFinite {
             path: path.to_path_buf(),
             location: format!(
-                "{name}: frame {t}, {} {}, coordinate {} = {v}",
+                "{name}: frame {t}, {} {}{}, coordinate {} = {v}",
                 if joints { "joint" } else { "point" },
-                point_name(p, joints),
+                if name.starts_with("performer") {
+                    ""
+                } else {
+                    point_name(p, joints)
+                },
+                if name.starts_with("performer") {
+                    p.to_string()
+                } else {
+                    String::new()
+                },
                 ["x", "y", "z"].get(c).copied().unwrap_or("?")
             ),
         }),

@@ -3,38 +3,13 @@
 use std::io::{Read, Write};
 use std::path::Path;
 
-use ndarray::{Array3, ArrayView1, ArrayView2, Axis};
-use serde::ser::{SerializeSeq, Serializer};
+use serde::ser::Serializer;
 use serde::{Deserialize, Serialize};
 
+use super::track_json::{column_order, to_track, RawTrack, Track};
 use crate::error::{Result, SkeletonError};
 use crate::joint::{Joint, JOINT_COUNT};
 use crate::motion::{InstrumentPoint, Motion};
-
-/// A `(T, points, dims)` track serialised as nested arrays.
-struct Track<'a>(&'a Array3<f32>);
-struct Frame<'a>(ArrayView2<'a, f32>);
-struct Point<'a>(ArrayView1<'a, f32>);
-
-impl Serialize for Track<'_> {
-    fn serialize<S: Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
-        s.collect_seq(self.0.axis_iter(Axis(0)).map(Frame))
-    }
-}
-impl Serialize for Frame<'_> {
-    fn serialize<S: Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
-        s.collect_seq(self.0.axis_iter(Axis(0)).map(Point))
-    }
-}
-impl Serialize for Point<'_> {
-    fn serialize<S: Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
-        let mut seq = s.serialize_seq(Some(self.0.len()))?;
-        for v in self.0.iter() {
-            seq.serialize_element(v)?;
-        }
-        seq.end()
-    }
-}
 
 /// The frame rate as an integer when it is one (`"fps": 30`), else as a float.
 fn serialize_fps<S: Serializer>(fps: &f64, s: S) -> std::result::Result<S::Ok, S::Error> {
@@ -62,6 +37,8 @@ struct MotionJsonOut<'a> {
     instrument: Option<Track<'a>>,
     #[serde(skip_serializing_if = "Option::is_none")]
     instrument_3d: Option<Track<'a>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    performer: Option<super::performer_json::PerformerOut<'a>>,
 }
 
 /// Writes `motion` as motion JSON to `writer` (all tracks it has).
@@ -93,6 +70,9 @@ pub(crate) fn write(motion: &Motion, mut writer: impl Write, path: &Path) -> Res
         instrument_points: has_instrument.then(|| InstrumentPoint::ALL.map(InstrumentPoint::name)),
         instrument: motion.instrument().map(Track),
         instrument_3d: motion.instrument_3d().map(Track),
+        performer: motion
+            .performer()
+            .map(super::performer_json::PerformerOut::new),
     };
     let io = |e: std::io::Error| SkeletonError::Io {
         path: path.to_path_buf(),
@@ -101,9 +81,6 @@ pub(crate) fn write(motion: &Motion, mut writer: impl Write, path: &Path) -> Res
     serde_json::to_writer(&mut writer, &out).map_err(|e| io(e.into()))?;
     writer.write_all(b"\n").map_err(io)
 }
-
-/// Nested arrays as read: `null` is kept so it can be reported as a non-finite value.
-type RawTrack = Vec<Vec<Vec<Option<f64>>>>;
 
 #[derive(Deserialize)]
 struct MotionJsonIn {
@@ -116,6 +93,7 @@ struct MotionJsonIn {
     instrument_points: Option<Vec<String>>,
     instrument: Option<RawTrack>,
     instrument_3d: Option<RawTrack>,
+    performer: Option<super::performer_json::PerformerIn>,
 }
 
 /// Reads motion JSON from `reader` (joints in any order, by name; unknown or missing joints
@@ -145,90 +123,6 @@ fn missing(path: &Path, field: &str, hint: &str) -> SkeletonError {
         field: field.into(),
         hint: hint.into(),
     }
-}
-
-/// For each column of the file, the index of that name in `known`; every known name must
-/// appear exactly once.
-fn column_order(path: &Path, names: &[String], known: &[&'static str]) -> Result<Vec<usize>> {
-    let mut order = Vec::with_capacity(names.len());
-    let mut seen = vec![false; known.len()];
-    for name in names {
-        let Some(i) = known.iter().position(|k| k == name) else {
-            return Err(SkeletonError::UnknownJoint {
-                path: path.to_path_buf(),
-                name: name.clone(),
-            });
-        };
-        if std::mem::replace(&mut seen[i], true) {
-            return Err(SkeletonError::MissingJoint {
-                path: path.to_path_buf(),
-                name: name.clone(),
-                problem: "listed twice".into(),
-            });
-        }
-        order.push(i);
-    }
-    if let Some(i) = seen.iter().position(|s| !s) {
-        return Err(SkeletonError::MissingJoint {
-            path: path.to_path_buf(),
-            name: known[i].into(),
-            problem: "missing".into(),
-        });
-    }
-    Ok(order)
-}
-
-/// Builds a `(T, points, dims)` array from a raw track whose point columns follow `order`.
-fn to_track(
-    path: &Path,
-    field: &str,
-    raw: &RawTrack,
-    order: &[usize],
-    names: &[&'static str],
-    dims: usize,
-) -> Result<Array3<f32>> {
-    let mut out = Array3::zeros((raw.len(), order.len(), dims));
-    for (t, frame) in raw.iter().enumerate() {
-        if frame.len() != order.len() {
-            return Err(SkeletonError::FileShape {
-                path: path.to_path_buf(),
-                what: format!(
-                    "{field}: frame {t} has {} points, expected {} (one per name listed)",
-                    frame.len(),
-                    order.len()
-                ),
-            });
-        }
-        for (column, point) in frame.iter().enumerate() {
-            let p = order[column];
-            if point.len() != dims {
-                return Err(SkeletonError::FileShape {
-                    path: path.to_path_buf(),
-                    what: format!(
-                        "{field}: frame {t}, {} has {} values, expected {dims}",
-                        names[p],
-                        point.len()
-                    ),
-                });
-            }
-            for (c, v) in point.iter().enumerate() {
-                let value = v.map(|x| x as f32).filter(|x| x.is_finite());
-                let Some(value) = value else {
-                    return Err(SkeletonError::NonFinite {
-                        path: path.to_path_buf(),
-                        location: format!(
-                            "{field}: frame {t}, {}, coordinate {} ({})",
-                            names[p],
-                            ["x", "y", "z"][c.min(2)],
-                            v.map_or("null".to_string(), |x| x.to_string())
-                        ),
-                    });
-                };
-                out[[t, p, c]] = value;
-            }
-        }
-    }
-    Ok(out)
 }
 
 pub(crate) fn read(bytes: &[u8], path: &Path) -> Result<Motion> {
@@ -302,6 +196,10 @@ pub(crate) fn read(bytes: &[u8], path: &Path) -> Result<Motion> {
             let track = to_track(path, "instrument_3d", i3, &inst_order, &point_names, 3)?;
             motion = motion.with_instrument_3d(track).map_err(shape_error)?;
         }
+    }
+    if let Some(p) = raw.performer {
+        let track = p.into_track(path, frame_count)?;
+        motion = motion.with_performer(track).map_err(shape_error)?;
     }
     if let Some([w, h]) = raw.image_size {
         motion = motion.with_image_size(w, h);

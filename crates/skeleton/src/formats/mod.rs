@@ -3,7 +3,7 @@
 //!
 //! | format | what | read | write |
 //! |---|---|---|---|
-//! | [`MotionFormat::Json`] | `{"fps", "joints", "frames", ["frames_3d"], "units", ["image_size"], ["instrument_points", "instrument", "instrument_3d"]}` | joints in any order, by name | all tracks |
+//! | [`MotionFormat::Json`] | `{"fps", "joints", "frames", ["frames_3d"], "units", ["image_size"], ["instrument_points", "instrument", "instrument_3d"], ["performer"]}` | joints in any order, by name; `performer` optional | all tracks |
 //! | [`MotionFormat::Csv`] | header `frame,time_s,nose_x,nose_y,…,l_hip_y`, one row per frame | columns by name; fps from `time_s` | 2-D track |
 //! | [`MotionFormat::Npy`] | float32 `(T, 20)`: x, y per joint in [`crate::Joint::ALL`] order | needs an fps ([`Motion::read_npy`]); [`Motion::read`] assumes 30 | 2-D track |
 //! | [`MotionFormat::Glb`] | glTF 2.0 binary: a node hierarchy with animated translations ([`gltf`]) | not read | 3-D track and 3-D instrument points |
@@ -41,6 +41,8 @@ pub mod gltf;
 mod json;
 mod npy;
 mod openpose;
+mod performer_json;
+mod track_json;
 
 use std::path::Path;
 

@@ -1,5 +1,7 @@
 //! OpenPose directories: one `{prefix}_{frame:012}_keypoints.json` per frame, in OpenPose's
-//! own schema, BODY_25 or COCO-18 order.
+//! own schema, BODY_25 or COCO-18 order. A motion with a performer track writes its whole
+//! body (all 25 points) and both 21-point hands; without one, the ten core joints (BODY_25's
+//! MidHip as the mean of the hips) and hands of 21 points with confidence 0.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -7,9 +9,12 @@ use std::path::{Path, PathBuf};
 use ndarray::Array3;
 use serde::{Deserialize, Serialize};
 
+use crate::body25::BodyPoint;
 use crate::error::{Result, SkeletonError};
+use crate::hand::HAND_POINT_COUNT;
 use crate::joint::{Joint, PoseLayout, JOINT_COUNT};
 use crate::motion::Motion;
+use crate::performer::PerformerPart;
 
 /// How to write an OpenPose directory.
 ///
@@ -105,8 +110,8 @@ struct PersonOut<'a> {
     person_id: [i32; 1],
     pose_keypoints_2d: &'a [f32],
     face_keypoints_2d: [f32; 0],
-    hand_left_keypoints_2d: [f32; 0],
-    hand_right_keypoints_2d: [f32; 0],
+    hand_left_keypoints_2d: &'a [f32],
+    hand_right_keypoints_2d: &'a [f32],
     pose_keypoints_3d: [f32; 0],
     face_keypoints_3d: [f32; 0],
     hand_left_keypoints_3d: [f32; 0],
@@ -123,11 +128,51 @@ struct FrameOut<'a> {
 /// as the mean of the two hips.
 const BODY25_MID_HIP: usize = 8;
 
-/// Fills `keypoints` (x, y, c per keypoint of `layout`) from frame `t` of `motion`: our joints
-/// with confidence 1, BODY_25's MidHip as the mean of the hips, everything else 0, 0, 0.
-fn frame_keypoints(motion: &Motion, t: usize, layout: PoseLayout, keypoints: &mut Vec<f32>) {
+/// Reused per-frame buffers: body keypoints and the two hands.
+#[derive(Default)]
+struct Buffers {
+    body: Vec<f32>,
+    left: Vec<f32>,
+    right: Vec<f32>,
+}
+
+/// Fills `out` (x, y, c per point) from frame `t` of a `(T, points, 2)` track, or with
+/// `points` zero triples when there is no track.
+fn fill_hand(track: Option<&ndarray::Array3<f32>>, t: usize, out: &mut Vec<f32>) {
+    out.clear();
+    match track {
+        Some(a) => {
+            for p in a.index_axis(ndarray::Axis(0), t).rows() {
+                out.extend([p[0], p[1], 1.0]);
+            }
+        }
+        None => out.resize(3 * HAND_POINT_COUNT, 0.0),
+    }
+}
+
+/// Fills the buffers from frame `t` of `motion`: the performer's body points (all of BODY_25,
+/// or those COCO-18 has) and hands when the motion has a performer, else our joints with
+/// BODY_25's MidHip as the mean of the hips; confidence 1 for every written point, everything
+/// else (and absent hands) 0, 0, 0.
+fn frame_keypoints(motion: &Motion, t: usize, layout: PoseLayout, b: &mut Buffers) {
+    let keypoints = &mut b.body;
     keypoints.clear();
     keypoints.resize(3 * layout.keypoint_count(), 0.0);
+    let performer = motion.performer();
+    if let Some(p) = performer {
+        let body = p.track(PerformerPart::Body).index_axis(ndarray::Axis(0), t);
+        for point in BodyPoint::ALL {
+            let k = match layout {
+                PoseLayout::Body25 => Some(point.index()),
+                PoseLayout::Coco18 => point.coco18_index(),
+            };
+            if let Some(k) = k {
+                keypoints[3 * k] = body[[point.index(), 0]];
+                keypoints[3 * k + 1] = body[[point.index(), 1]];
+                keypoints[3 * k + 2] = 1.0;
+            }
+        }
+    }
     let frame = motion.frames().index_axis(ndarray::Axis(0), t);
     for j in Joint::ALL {
         let k = j.openpose_index(layout);
@@ -135,12 +180,22 @@ fn frame_keypoints(motion: &Motion, t: usize, layout: PoseLayout, keypoints: &mu
         keypoints[3 * k + 1] = frame[[j.index(), 1]];
         keypoints[3 * k + 2] = 1.0;
     }
-    if layout == PoseLayout::Body25 {
+    if layout == PoseLayout::Body25 && performer.is_none() {
         let (r, l) = (Joint::RHip.index(), Joint::LHip.index());
         keypoints[3 * BODY25_MID_HIP] = 0.5 * (frame[[r, 0]] + frame[[l, 0]]);
         keypoints[3 * BODY25_MID_HIP + 1] = 0.5 * (frame[[r, 1]] + frame[[l, 1]]);
         keypoints[3 * BODY25_MID_HIP + 2] = 1.0;
     }
+    fill_hand(
+        performer.map(|p| p.track(PerformerPart::LeftHand)),
+        t,
+        &mut b.left,
+    );
+    fill_hand(
+        performer.map(|p| p.track(PerformerPart::RightHand)),
+        t,
+        &mut b.right,
+    );
 }
 
 /// Writes frame `frame` of `motion` as one OpenPose keypoints JSON document to `writer`.
@@ -169,27 +224,27 @@ pub fn write_openpose_frame(
         });
     }
     super::check::check_writable(motion, &path, false)?;
-    let mut keypoints = Vec::new();
-    write_frame(motion, frame, options.layout, &mut keypoints, writer, &path)
+    let mut buffers = Buffers::default();
+    write_frame(motion, frame, options.layout, &mut buffers, writer, &path)
 }
 
 fn write_frame(
     motion: &Motion,
     t: usize,
     layout: PoseLayout,
-    keypoints: &mut Vec<f32>,
+    buffers: &mut Buffers,
     mut writer: impl Write,
     path: &Path,
 ) -> Result<()> {
-    frame_keypoints(motion, t, layout, keypoints);
+    frame_keypoints(motion, t, layout, buffers);
     let out = FrameOut {
         version: 1.3,
         people: [PersonOut {
             person_id: [-1],
-            pose_keypoints_2d: keypoints,
+            pose_keypoints_2d: &buffers.body,
             face_keypoints_2d: [],
-            hand_left_keypoints_2d: [],
-            hand_right_keypoints_2d: [],
+            hand_left_keypoints_2d: &buffers.left,
+            hand_right_keypoints_2d: &buffers.right,
             pose_keypoints_3d: [],
             face_keypoints_3d: [],
             hand_left_keypoints_3d: [],
@@ -214,19 +269,12 @@ pub(crate) fn write_dir(motion: &Motion, dir: &Path, options: &OpenPoseOptions) 
         });
     }
     super::files::write_dir(dir, |tmp| {
-        let mut keypoints = Vec::new();
-        let mut buffer = Vec::with_capacity(1024);
+        let mut buffers = Buffers::default();
+        let mut buffer = Vec::with_capacity(4096);
         for t in 0..motion.len() {
             let file = tmp.join(openpose_file_name(&options.name_prefix, t));
             buffer.clear();
-            write_frame(
-                motion,
-                t,
-                options.layout,
-                &mut keypoints,
-                &mut buffer,
-                &file,
-            )?;
+            write_frame(motion, t, options.layout, &mut buffers, &mut buffer, &file)?;
             std::fs::write(&file, &buffer).map_err(|e| SkeletonError::Io {
                 path: dir.join(openpose_file_name(&options.name_prefix, t)),
                 source: e,

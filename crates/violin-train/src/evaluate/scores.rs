@@ -119,6 +119,17 @@ pub struct RecordingScores {
     pub bow_range_violations: Option<f64>,
     /// Beat alignment score in [0, 1]: motion speed minima near the reference beats.
     pub beat_alignment: Option<f64>,
+    /// Share of sounding frames with the bow hair within 5 mm of the played string between
+    /// bridge and fingerboard (Method 2, 3-D).
+    #[serde(default)]
+    pub bow_string_contact: Option<f64>,
+    /// Share of stopped-note frames with the playing fingertip within 5 mm of its string
+    /// (Method 2, 3-D).
+    #[serde(default)]
+    pub fingertip_string_contact: Option<f64>,
+    /// Mean |acceleration| of the 42 hand points, px/frame² (when the motion has hands).
+    #[serde(default)]
+    pub hand_jitter_px: Option<f64>,
     /// Seconds the pipeline took on this recording (analysis and synthesis).
     pub seconds: f64,
 }
@@ -170,6 +181,15 @@ pub struct ScoreSummary {
     pub jitter_px: Option<f64>,
     /// Bone-length coefficient of variation.
     pub bone_length_cv: Option<f64>,
+    /// Bow hair–string contact share (sounding frames).
+    #[serde(default)]
+    pub bow_string_contact: Option<f64>,
+    /// Fingertip–string contact share (stopped-note frames).
+    #[serde(default)]
+    pub fingertip_string_contact: Option<f64>,
+    /// Hand jitter, px/frame².
+    #[serde(default)]
+    pub hand_jitter_px: Option<f64>,
     /// Bowing-attack F1 (±3 frames) of the skeleton against the bow changes.
     pub bowing_attack_f1: Option<f64>,
     /// Share of frames with the bow out of range.
@@ -239,6 +259,9 @@ impl ScoreSummary {
             skeleton_l1_shoulders: weighted_mean(rows, |r| r.skeleton_l1_shoulders),
             jitter_px: weighted_mean(rows, |r| Some(r.jitter_px)),
             bone_length_cv: weighted_mean(rows, |r| Some(r.bone_length_cv)),
+            bow_string_contact: weighted_mean(rows, |r| r.bow_string_contact),
+            fingertip_string_contact: weighted_mean(rows, |r| r.fingertip_string_contact),
+            hand_jitter_px: weighted_mean(rows, |r| r.hand_jitter_px),
             bowing_attack_f1: pooled_counts(rows, |r| r.bowing_attacks_3f).map(|c| c.f1()),
             bow_range_violations: weighted_mean(rows, |r| r.bow_range_violations),
             beat_alignment: weighted_mean(rows, |r| r.beat_alignment),

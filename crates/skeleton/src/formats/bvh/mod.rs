@@ -13,6 +13,10 @@
 //!     └── LeftShoulder ── LeftElbow ── LeftWrist ─ End Site
 //! ```
 //!
+//! A motion with a 3-D performer track (BODY_25 body, hands, violin and bow) is written
+//! with a larger hierarchy instead: 83 joints with every finger joint, `Violin` and `Bow`
+//! (see [`performer_joint_names`] and the `performer` module's notes on its rest pose).
+//!
 //! Every joint but the root has `CHANNELS 3 Zrotation Xrotation Yrotation` (the rotation is
 //! `Rz · Rx · Ry`). OFFSETs are the skeleton's bone lengths (mean over the motion, which for
 //! a motion synthesised by `motion-synth` are its rig's); the rest pose stands upright with the
@@ -59,8 +63,11 @@
 //! # Ok::<(), skeleton::SkeletonError>(())
 //! ```
 
+mod euler;
 mod parse;
+mod performer;
 mod write;
 
 pub use parse::{parse_bvh, Bvh, BvhJoint, Channel};
+pub use performer::performer_joint_names;
 pub use write::{joint_for, write_bvh, write_bvh_file, BVH_JOINTS};

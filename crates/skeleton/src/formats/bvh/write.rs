@@ -5,6 +5,7 @@ use std::path::Path;
 
 use ndarray::Array3;
 
+use super::euler::euler_zxy;
 use crate::error::{Result, SkeletonError};
 use crate::geometry::{Mat3, Vec3};
 use crate::joint::Joint;
@@ -77,18 +78,6 @@ fn shortest_arc(a: Vec3, b: Vec3) -> Mat3 {
     Mat3::axis_angle(axis.normalized_or(Vec3::X), cos.acos())
 }
 
-/// `(z, x, y)` angles in degrees with `m = Rz(z) · Rx(x) · Ry(y)`.
-fn euler_zxy(m: &Mat3) -> [f64; 3] {
-    let r = &m.rows;
-    let x = r[2][1].clamp(-1.0, 1.0).asin();
-    let (z, y) = if x.cos() > 1e-9 {
-        ((-r[0][1]).atan2(r[1][1]), (-r[2][0]).atan2(r[2][2]))
-    } else {
-        (r[1][0].atan2(r[0][0]), 0.0)
-    };
-    [z.to_degrees(), x.to_degrees(), y.to_degrees()]
-}
-
 /// Segment frames of one arm in torso coordinates: rest direction `rest_sign · x`, bending
 /// plane normal as local z. Returns (shoulder local, elbow local) rotations.
 fn arm_rotations(upper: Vec3, fore: Vec3, rest_sign: f64, hinge: &mut Vec3) -> (Mat3, Mat3) {
@@ -116,9 +105,17 @@ fn mean<F: Fn(usize) -> f64>(frames: usize, f: F) -> f64 {
     (0..frames).map(f).sum::<f64>() / frames.max(1) as f64
 }
 
-/// Writes `motion`'s 3-D track as BVH (see the [module documentation](super)). Fails when
+/// Writes `motion`'s 3-D track as BVH (see the [module documentation](super)); a motion
+/// with a 3-D performer track is written with the whole performer instead (body, fingers,
+/// violin and bow: [`super::performer_joint_names`]). Fails when
 /// the motion has no 3-D track, no frames or a non-finite coordinate.
 pub fn write_bvh(motion: &Motion, mut out: impl Write) -> Result<()> {
+    if let Some(p) = motion
+        .performer()
+        .filter(|p| p.track_3d(crate::PerformerPart::Body).is_some())
+    {
+        return super::performer::write_performer_bvh(motion, p, out);
+    }
     let track = motion.frames_3d().ok_or(SkeletonError::MissingTrack {
         track: "3-D track",
         hint: "BVH needs 3-D joints; synthesize the motion with motion-synth",
@@ -327,35 +324,6 @@ pub fn write_bvh_file(motion: &Motion, path: impl AsRef<Path>) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn euler_zxy_round_trips() {
-        for (z, x, y) in [
-            (10.0, 20.0, 30.0),
-            (-170.0, 80.0, 5.0),
-            (45.0, -60.0, -120.0),
-            (0.0, 0.0, 0.0),
-        ] {
-            let m = Mat3::rot_z(f64::to_radians(z))
-                * Mat3::rot_x(f64::to_radians(x))
-                * Mat3::rot_y(f64::to_radians(y));
-            let [a, b, c] = euler_zxy(&m);
-            let back = Mat3::rot_z(a.to_radians())
-                * Mat3::rot_x(b.to_radians())
-                * Mat3::rot_y(c.to_radians());
-            for i in 0..3 {
-                for j in 0..3 {
-                    assert!((back.rows[i][j] - m.rows[i][j]).abs() < 1e-9);
-                }
-            }
-        }
-        // Gimbal lock (x = 90°) still gives the same rotation.
-        let m = Mat3::rot_z(0.3) * Mat3::rot_x(std::f64::consts::FRAC_PI_2) * Mat3::rot_y(0.2);
-        let [a, b, c] = euler_zxy(&m);
-        let back =
-            Mat3::rot_z(a.to_radians()) * Mat3::rot_x(b.to_radians()) * Mat3::rot_y(c.to_radians());
-        assert!((back * Vec3::new(0.1, 0.7, -0.3) - m * Vec3::new(0.1, 0.7, -0.3)).length() < 1e-9);
-    }
 
     #[test]
     fn shortest_arc_maps_a_onto_b() {
