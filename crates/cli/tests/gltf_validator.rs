@@ -83,6 +83,26 @@ fn generated_glb_passes_the_khronos_validator() {
         u32::from_le_bytes(bytes[8..12].try_into().unwrap()) as usize,
         bytes.len()
     );
+    // The whole performer: ≥ 40 nodes, fingers, violin and bow.
+    let json_len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+    let doc: serde_json::Value = serde_json::from_slice(&bytes[20..20 + json_len]).unwrap();
+    let names: Vec<&str> = doc["nodes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|n| n["name"].as_str().unwrap())
+        .collect();
+    assert!(names.len() >= 40, "{} nodes", names.len());
+    for name in [
+        "Hips",
+        "LeftHandIndex4",
+        "RightHandThumb1",
+        "Violin",
+        "Bow",
+        "LeftHeel",
+    ] {
+        assert!(names.contains(&name), "{name} missing from {names:?}");
+    }
     // The same motion through `--format glb` and through `render` (motion JSON → GLB).
     let json = dir.path().join("piece.json");
     ok(&cli()

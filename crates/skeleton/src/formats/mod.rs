@@ -131,7 +131,7 @@ impl Motion {
             MotionFormat::OpenPose => self.write_openpose(path, &OpenPoseOptions::default()),
             MotionFormat::Glb => {
                 check_writable(self, path, true)?;
-                let anim = gltf::motion_animation(self)?;
+                let anim = gltf::motion_glb_animation(self)?;
                 files::write_file(path, |w| gltf::write_glb(&anim, gltf::MOTION_NAME, w))
             }
         }

@@ -69,5 +69,5 @@ mod performer;
 mod write;
 
 pub use parse::{parse_bvh, Bvh, BvhJoint, Channel};
-pub use performer::performer_joint_names;
+pub use performer::{performer_hierarchy, performer_joint_names, PerformerHierarchy};
 pub use write::{joint_for, write_bvh, write_bvh_file, BVH_JOINTS};

@@ -237,6 +237,34 @@ pub fn performer_joint_names() -> Vec<String> {
     skeleton().into_iter().map(|n| n.name).collect()
 }
 
+/// A joint hierarchy with world positions: `(name, parent)` per joint, parents first, and
+/// `(T, joints, 3)` metres.
+pub type PerformerHierarchy = (Vec<(String, Option<usize>)>, Array3<f32>);
+
+/// The performer's 3-D tracks laid out as the BVH's joints (names, parents) with their world
+/// positions per frame — what the glTF writer animates when a motion has a performer;
+/// `None` when a 3-D track is missing.
+pub fn performer_hierarchy(performer: &PerformerTrack) -> Option<PerformerHierarchy> {
+    let mut tracks: Vec<&Array3<f32>> = Vec::with_capacity(4);
+    for part in PerformerPart::ALL {
+        tracks.push(performer.track_3d(part)?);
+    }
+    let tracks: [&Array3<f32>; 4] = [tracks[0], tracks[1], tracks[2], tracks[3]];
+    let nodes = skeleton();
+    let frames = performer.len();
+    let mut positions = Array3::<f32>::zeros((frames, nodes.len(), 3));
+    for f in 0..frames {
+        for (i, node) in nodes.iter().enumerate() {
+            let p = position(&tracks, node.at, f);
+            positions[[f, i, 0]] = p.x as f32;
+            positions[[f, i, 1]] = p.y as f32;
+            positions[[f, i, 2]] = p.z as f32;
+        }
+    }
+    let names = nodes.into_iter().map(|n| (n.name, n.parent)).collect();
+    Some((names, positions))
+}
+
 /// Writes the performer's 3-D tracks as BVH (see the module documentation).
 pub(super) fn write_performer_bvh(
     motion: &Motion,

@@ -46,7 +46,27 @@ use crate::motion::Motion;
 /// The scene and animation name in files written from a motion.
 pub(crate) const MOTION_NAME: &str = "violinist";
 
-/// Writes `motion` as GLB to `out` (see [`motion_animation`]); fails without a 3-D track.
+/// What a motion's GLB animates: the whole performer (BODY_25 body, every finger joint,
+/// `Violin` and `Bow` with their parts; the BVH's hierarchy and names, 83 nodes) when the
+/// motion has its 3-D tracks, else the core joints by [`motion_animation`]; fails without a
+/// 3-D track.
+pub fn motion_glb_animation(motion: &Motion) -> Result<NodeAnimation> {
+    let performer = motion
+        .performer()
+        .and_then(crate::formats::bvh::performer_hierarchy);
+    match performer {
+        Some((joints, positions)) if !motion.is_empty() => {
+            let nodes = joints
+                .into_iter()
+                .map(|(name, parent)| AnimNode { name, parent })
+                .collect();
+            NodeAnimation::new(nodes, motion.fps(), positions)
+        }
+        _ => motion_animation(motion),
+    }
+}
+
+/// Writes `motion` as GLB to `out` (see [`motion_glb_animation`]).
 pub fn write_motion_glb(motion: &Motion, out: impl Write) -> Result<()> {
-    write_glb(&motion_animation(motion)?, MOTION_NAME, out)
+    write_glb(&motion_glb_animation(motion)?, MOTION_NAME, out)
 }
