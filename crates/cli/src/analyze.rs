@@ -20,7 +20,7 @@ use clap::Args;
 use violin_skeleton::{Analysis, Pipeline};
 
 use crate::batch::BatchArgs;
-use crate::contract::{check_outputs, named, refuse_stdout_folder};
+use crate::contract::{check_outputs, named};
 use crate::error::CliError;
 use crate::fingering_args::FingeringArgs;
 use crate::generate::{is_midi, with_input, AnalysisWeights};
@@ -137,11 +137,6 @@ fn pipeline_of(args: &AnalyzeArgs) -> Pipeline {
 
 /// `analyze DIR -o OUTDIR`: every music file under `DIR` (see [`crate::batch`]).
 fn run_folder(args: &AnalyzeArgs, report: &Reporter) -> Result<(), CliError> {
-    refuse_stdout_folder(
-        named("-o", &args.output),
-        "a batch's output",
-        "give a folder name",
-    )?;
     crate::batch::check_output_folder(&args.input, &args.output)?;
     let plan = crate::batch::plan(&args.input, &args.output, Some("json"))?;
     let pipeline = pipeline_of(args);

@@ -62,9 +62,14 @@ const FILE_EXTENSIONS: [&str; 14] = [
     "midi",
 ];
 
-/// Refuses (exit 2) an output that cannot be a batch's output folder: an existing file, a
-/// name with a file extension (`-o out.json`), or the input folder itself.
+/// Refuses (exit 2) an output that cannot be a batch's output folder: `-` (standard output),
+/// an existing file, a name with a file extension (`-o out.json`), or the input folder itself.
 pub fn check_output_folder(input_dir: &Path, output_dir: &Path) -> Result<(), CliError> {
+    crate::contract::refuse_stdout_folder(
+        crate::contract::named("-o", output_dir),
+        "a batch's output",
+        "give a folder name",
+    )?;
     let refuse = |why: &str| {
         Err(CliError::Usage(format!(
             "-o {}: {why}; with a folder as input, -o names the output folder",

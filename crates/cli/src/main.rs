@@ -14,6 +14,7 @@ mod features;
 mod fingering_args;
 mod generate;
 mod limits;
+mod motion_of;
 mod output;
 mod pose_labels;
 mod preview;

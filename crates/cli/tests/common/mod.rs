@@ -19,6 +19,21 @@ pub fn write_wav(path: &Path, seconds: f64) {
     w.finalize().unwrap();
 }
 
+/// A 16-bit mono WAV of `samples` (in −1…1) at `rate`.
+pub fn write_samples_wav(path: &Path, samples: &[f32], rate: u32) {
+    let spec = hound::WavSpec {
+        channels: 1,
+        sample_rate: rate,
+        bits_per_sample: 16,
+        sample_format: hound::SampleFormat::Int,
+    };
+    let mut w = hound::WavWriter::create(path, spec).unwrap();
+    for &s in samples {
+        w.write_sample((s * 32_000.0) as i16).unwrap();
+    }
+    w.finalize().unwrap();
+}
+
 /// A format-0 MIDI file: `notes` quarter notes at 120 bpm (0.5 s each), a G major scale.
 pub fn write_midi(path: &Path, notes: usize) {
     let mut track = vec![0x00, 0xFF, 0x51, 0x03, 0x07, 0xA1, 0x20];
