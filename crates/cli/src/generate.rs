@@ -114,7 +114,7 @@ pub struct GenerateArgs {
 }
 
 /// Share of each side left free around the performer in OpenPose frames.
-pub const CANVAS_MARGIN: f64 = 0.05;
+pub const CANVAS_MARGIN: f64 = violin_skeleton::skeleton::canvas::DEFAULT_CANVAS_MARGIN;
 
 /// Parses `--canvas WxH` (a usage error when it is not a size or too small for a person).
 pub fn parse_canvas(text: &str) -> Result<Canvas, CliError> {

@@ -5,7 +5,9 @@ use std::path::{Path, PathBuf};
 
 use numpy::{PyArray3, ToPyArray};
 use pyo3::prelude::*;
+use violin_skeleton::skeleton::canvas::DEFAULT_CANVAS_MARGIN;
 use violin_skeleton::skeleton::formats::OpenPoseOptions;
+use violin_skeleton::skeleton::Canvas;
 use violin_skeleton::skeleton::{Joint, PoseLayout};
 use violin_skeleton::MotionFormat;
 
@@ -25,10 +27,12 @@ pub enum SaveFormat {
     Npy,
     /// BVH of the 3-D rig.
     Bvh,
+    /// glTF 2.0 binary of the 3-D rig.
+    Glb,
 }
 
 impl SaveFormat {
-    /// The format named `name` (`json`, `openpose`, `csv`, `npy`, `bvh`).
+    /// The format named `name` (`json`, `openpose`, `csv`, `npy`, `bvh`, `glb`).
     pub fn from_name(name: &str) -> Result<Self> {
         match name.to_ascii_lowercase().as_str() {
             "json" => Ok(SaveFormat::Json),
@@ -36,8 +40,9 @@ impl SaveFormat {
             "csv" => Ok(SaveFormat::Csv),
             "npy" => Ok(SaveFormat::Npy),
             "bvh" => Ok(SaveFormat::Bvh),
+            "glb" => Ok(SaveFormat::Glb),
             _ => Err(PyApiError::InvalidInput(format!(
-                "format={name:?}: expected one of json, openpose, csv, npy, bvh"
+                "format={name:?}: expected one of json, openpose, csv, npy, bvh, glb"
             ))),
         }
     }
@@ -50,7 +55,7 @@ impl SaveFormat {
             Some(ext) => Self::from_name(&ext.to_string_lossy()).map_err(|_| {
                 PyApiError::InvalidInput(format!(
                     "{}: cannot tell the format from the extension; use .json, .csv, .npy, \
-                     .bvh, a folder name, or format=…",
+                     .bvh, .glb, a folder name, or format=…",
                     path.display()
                 ))
             }),
@@ -80,15 +85,19 @@ fn write_motion(motion: &violin_skeleton::Motion, path: &Path, format: SaveForma
         SaveFormat::Json => motion.write(path, MotionFormat::Json),
         SaveFormat::Csv => motion.write(path, MotionFormat::Csv),
         SaveFormat::Npy => motion.write(path, MotionFormat::Npy),
-        SaveFormat::OpenPose => motion.write_openpose(
-            path,
-            &OpenPoseOptions {
-                layout: PoseLayout::Body25,
-                name_prefix: path
-                    .file_name()
-                    .map_or_else(|| "motion".into(), |n| n.to_string_lossy().to_string()),
-            },
-        ),
+        SaveFormat::Glb => motion.write(path, MotionFormat::Glb),
+        // Fitted to the default 1280×720 canvas, as `generate` writes it.
+        SaveFormat::OpenPose => motion
+            .fitted_to_canvas(Canvas::default(), DEFAULT_CANVAS_MARGIN)
+            .write_openpose(
+                path,
+                &OpenPoseOptions {
+                    layout: PoseLayout::Body25,
+                    name_prefix: path
+                        .file_name()
+                        .map_or_else(|| "motion".into(), |n| n.to_string_lossy().to_string()),
+                },
+            ),
         SaveFormat::Bvh => {
             return violin_skeleton::motion_synth::bvh::write_bvh_file(motion, path)
                 .map_err(|e| PyApiError::Pipeline(e.into()));

@@ -42,3 +42,19 @@ def test_features_equal_the_cli(cli, demo_wav, tmp_path):
         run(cli, "features", demo_wav, "--kind", kind, "-o", tmp_path / f"{kind}.npy")
         np.testing.assert_array_equal(np.load(tmp_path / f"{kind}.npy"),
                                       vs.features(demo_wav, kind=kind))
+
+
+def test_openpose_and_glb_equal_the_cli(cli, demo_wav, tmp_path):
+    run(cli, "generate", demo_wav, "-o", tmp_path / "cli_pose")
+    run(cli, "generate", demo_wav, "-o", tmp_path / "cli.glb")
+    m = vs.generate(str(demo_wav))
+    m.save(str(tmp_path / "py_pose"))
+    m.save(str(tmp_path / "py.glb"))
+    assert (tmp_path / "py.glb").read_bytes() == (tmp_path / "cli.glb").read_bytes()
+    cli_files = sorted(p.name for p in (tmp_path / "cli_pose").iterdir())
+    py_files = sorted(p.name for p in (tmp_path / "py_pose").iterdir())
+    assert len(cli_files) == len(m) == len(py_files)
+    for a, b in zip(cli_files[:: max(1, len(m) // 10)], py_files[:: max(1, len(m) // 10)]):
+        assert (tmp_path / "cli_pose" / a).read_text().replace("cli_pose", "") == (
+            tmp_path / "py_pose" / b
+        ).read_text().replace("py_pose", "")

@@ -11,6 +11,10 @@ pub const MIN_CANVAS_PX: u32 = 64;
 /// Largest canvas side, pixels.
 pub const MAX_CANVAS_PX: u32 = 16_384;
 
+/// Share of each side left free around the performer when a motion is fitted to a canvas
+/// (what `generate` and the Python package use for OpenPose output).
+pub const DEFAULT_CANVAS_MARGIN: f64 = 0.05;
+
 /// A picture size in pixels, as `--canvas WxH` gives it.
 ///
 /// ```

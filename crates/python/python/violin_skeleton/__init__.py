@@ -10,7 +10,7 @@ The Rust pipeline behind the ``violin-skeleton`` command-line tool, with NumPy i
 
     motion = vs.generate("take1.wav")           # method="rules" (default) or "gru"
     motion.joints.shape                         # (frames, 10, 2) pixels at motion.fps
-    motion.save("take1.bvh")                    # json, openpose, csv, npy, bvh
+    motion.save("take1.bvh")                    # json, openpose, csv, npy, bvh, glb
 
     mel = vs.features("take1.wav", kind="mel30")  # float32 (frames, 128)
 

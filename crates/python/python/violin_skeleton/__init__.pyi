@@ -87,7 +87,7 @@ class Motion:
     @property
     def image_size(self) -> Optional[Tuple[int, int]]: ...
     def save(self, path: PathLike, format: Optional[str] = None) -> None:
-        """Write json, openpose (a folder), csv, npy or bvh; default from the extension."""
+        """Write json, openpose (a folder, fitted to 1280x720 as the CLI does), csv, npy, bvh or glb; default from the extension."""
     def __len__(self) -> int: ...
 
 class Pipeline:
