@@ -5,7 +5,6 @@ use std::time::Instant;
 
 use clap::{Args, ValueEnum};
 use violin_skeleton::skeleton::formats::OpenPoseOptions;
-use violin_skeleton::skeleton::PoseLayout;
 use violin_skeleton::{Canvas, Method, Motion, MotionFormat, Pipeline, PipelineBuilder};
 
 use crate::batch::BatchArgs;
@@ -135,15 +134,7 @@ pub fn write_motion(
         OutFormat::Npy => motion.write(path, MotionFormat::Npy)?,
         OutFormat::Openpose => motion
             .fitted_to_canvas(canvas, CANVAS_MARGIN)
-            .write_openpose(
-                path,
-                &OpenPoseOptions {
-                    layout: PoseLayout::Body25,
-                    name_prefix: path
-                        .file_name()
-                        .map_or_else(|| "motion".into(), |n| n.to_string_lossy().to_string()),
-                },
-            )?,
+            .write_openpose(path, &OpenPoseOptions::named_after(path))?,
         OutFormat::Bvh => violin_skeleton::motion_synth::bvh::write_bvh_file(motion, path)
             .map_err(violin_skeleton::Error::from)?,
         OutFormat::Glb => motion.write(path, MotionFormat::Glb)?,

@@ -6,25 +6,14 @@
 use std::path::Path;
 use std::process::Command;
 
+mod common;
+
+use common::write_samples_wav as write_wav;
 use corpus::item::clean_etude;
 use serde_json::Value;
 
 fn cli() -> Command {
     Command::new(env!("CARGO_BIN_EXE_violin-skeleton"))
-}
-
-fn write_wav(path: &Path, samples: &[f32], rate: u32) {
-    let spec = hound::WavSpec {
-        channels: 1,
-        sample_rate: rate,
-        bits_per_sample: 16,
-        sample_format: hound::SampleFormat::Int,
-    };
-    let mut w = hound::WavWriter::create(path, spec).unwrap();
-    for &s in samples {
-        w.write_sample((s * 32_000.0) as i16).unwrap();
-    }
-    w.finalize().unwrap();
 }
 
 fn analyze(wav: &Path, out: &Path, extra: &[&str]) -> std::process::Output {

@@ -8,7 +8,7 @@ use pyo3::prelude::*;
 use violin_skeleton::skeleton::canvas::DEFAULT_CANVAS_MARGIN;
 use violin_skeleton::skeleton::formats::OpenPoseOptions;
 use violin_skeleton::skeleton::Canvas;
-use violin_skeleton::skeleton::{Joint, PoseLayout};
+use violin_skeleton::skeleton::Joint;
 use violin_skeleton::MotionFormat;
 
 use crate::errors::{PyApiError, Result};
@@ -89,15 +89,7 @@ fn write_motion(motion: &violin_skeleton::Motion, path: &Path, format: SaveForma
         // Fitted to the default 1280×720 canvas, as `generate` writes it.
         SaveFormat::OpenPose => motion
             .fitted_to_canvas(Canvas::default(), DEFAULT_CANVAS_MARGIN)
-            .write_openpose(
-                path,
-                &OpenPoseOptions {
-                    layout: PoseLayout::Body25,
-                    name_prefix: path
-                        .file_name()
-                        .map_or_else(|| "motion".into(), |n| n.to_string_lossy().to_string()),
-                },
-            ),
+            .write_openpose(path, &OpenPoseOptions::named_after(path)),
         SaveFormat::Bvh => {
             return violin_skeleton::motion_synth::bvh::write_bvh_file(motion, path)
                 .map_err(|e| PyApiError::Pipeline(e.into()));

@@ -40,6 +40,24 @@ impl Default for OpenPoseOptions {
     }
 }
 
+impl OpenPoseOptions {
+    /// BODY_25 frames named after the folder they go in (`take1_pose/` →
+    /// `take1_pose_000000000000_keypoints.json`), as OpenPose names a video's frames.
+    ///
+    /// ```
+    /// let o = skeleton::formats::OpenPoseOptions::named_after(std::path::Path::new("out/take1"));
+    /// assert_eq!(o.name_prefix, "take1");
+    /// ```
+    pub fn named_after(dir: &std::path::Path) -> Self {
+        Self {
+            layout: PoseLayout::Body25,
+            name_prefix: dir
+                .file_name()
+                .map_or_else(|| "motion".into(), |n| n.to_string_lossy().to_string()),
+        }
+    }
+}
+
 /// The file name OpenPose gives frame `frame` of a video called `prefix`.
 ///
 /// ```
