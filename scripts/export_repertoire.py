@@ -20,6 +20,9 @@ mozart/k458, haydn/opus74no1, beethoven/opus18no1, anything by J. S. Bach (this 
 BWV 1001-1006), and anything whose path or title names Wohlfahrt or Kayser. The skip list is
 written to `DIR/skipped.tsv` with the reason, like every score that fails to parse.
 
+Of each tune collection, --per-collection tunes are drawn at random, plus every tune in a
+rare meter (12/8, 9/8, 3/8, read from the ABC `M:` field).
+
 Tunes are moved up by octaves until their lowest note is at least G3 (MIDI 55); a work whose
 range then exceeds E7 (MIDI 100) is skipped. Chords keep every pitch (`midi` is a list);
 ties are merged. Everything is deterministic for a given --seed (which tunes are picked).
@@ -67,6 +70,9 @@ QUARTETS = [
     "beethoven/opus133.mxl",
     "corelli/opus3no1",
 ]
+# Compound and one-beat meters are rare in the collections; every tune in one of them is
+# exported on top of the random sample, so that the corpus has enough of each.
+RARE_METERS = {"12/8", "9/8", "3/8"}
 LICENCE_TUNES = "public-domain tune; encoding distributed in the music21 corpus (see music21/corpus/license.txt)"
 LICENCE_PARTS = "public-domain composition; MusicXML encoding distributed in the music21 corpus (see music21/corpus/license.txt)"
 DYNAMICS = {
@@ -282,8 +288,13 @@ def abc_tunes(path):
     return [header + t for t in tunes]
 
 
-def count_tunes(rel):
-    return rel, len(abc_tunes(corpus_root() / rel))
+def tune_meters(rel):
+    """The notated meter (`M:` field, spaces removed) of every tune of one ABC file."""
+    meters = []
+    for text in abc_tunes(corpus_root() / rel):
+        m = re.search(r"(?m)^M:\s*([^\s%]+)", text.split("\nK:", 1)[0])
+        meters.append(m.group(1).replace(" ", "") if m else "")
+    return rel, meters
 
 
 def main():
@@ -307,11 +318,12 @@ def main():
         files = sorted(str(p.relative_to(root)) for p in (root / coll).rglob("*.abc"))
         tune_files[coll] = files
     with ProcessPoolExecutor(args.jobs) as ex:
-        counts = dict(ex.map(count_tunes, [f for fs in tune_files.values() for f in fs]))
+        meters = dict(ex.map(tune_meters, [f for fs in tune_files.values() for f in fs]))
     for coll, files in tune_files.items():
-        pool = [(f, i) for f in files for i in range(counts.get(f, 0))]
+        pool = [(f, i) for f in files for i in range(len(meters.get(f, [])))]
         if args.per_collection and len(pool) > args.per_collection:
-            pool = rng.sample(pool, args.per_collection)
+            rare = [(f, i) for f, i in pool if meters[f][i] in RARE_METERS]
+            pool = sorted(set(rng.sample(pool, args.per_collection)) | set(rare))
         by_file = {}
         for f, i in pool:
             by_file.setdefault(f, set()).add(i)

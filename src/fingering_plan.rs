@@ -2,8 +2,8 @@
 //! *sul* passages in seconds, and double stops.
 
 use fingering::{
-    Fingering, FingeringPlanner, FingeringStyle, FingeringTable, GreedyPlanner, LearnedPlanner,
-    OptimalPlanner, ViolinString,
+    partner_place, Fingering, FingeringPlanner, FingeringStyle, FingeringTable, GreedyPlanner,
+    LearnedPlanner, OptimalPlanner, ViolinString,
 };
 use performance::Note;
 
@@ -48,45 +48,10 @@ fn sounds_with(line: &Note, n: &Note) -> bool {
     overlap >= DOUBLE_STOP_OVERLAP_S && overlap >= 0.5 * shorter
 }
 
-/// The place of a double-stop partner of `line` (already placed): on the neighbouring
-/// string below (a lower note) or above (a higher one) — the next one out when that string
-/// cannot play it — in the position nearest the line's; an open string when it is the
-/// partner's pitch.
-fn partner_place(line: &Fingering, midi: u8) -> Option<Fingering> {
-    let table = FingeringTable::physical();
-    let places = table.places(midi);
-    let here = i32::from(line.string.number());
-    let dir = if midi < line.midi() { -1 } else { 1 };
-    for step in 1..=3 {
-        let Some(string) = u8::try_from(here + dir * step)
-            .ok()
-            .and_then(ViolinString::from_number)
-        else {
-            break;
-        };
-        let best = places
-            .iter()
-            .filter(|f| f.string == string)
-            .min_by_key(|f| (!f.is_open(), f.position.abs_diff(line.position)));
-        if let Some(&f) = best {
-            return Some(if f.is_open() {
-                Fingering::open(string, line.position)
-            } else {
-                f
-            });
-        }
-    }
-    places
-        .iter()
-        .filter(|f| f.string != line.string)
-        .min_by_key(|f| f.position.abs_diff(line.position))
-        .copied()
-}
-
 /// One place per note (`None` for a note no violin place plays): the notes of the melodic
 /// line (each note that does not sound together with the line's current note) go through
 /// the planner with the style; the other notes of a double stop or chord take the
-/// neighbouring strings ([`partner_place`]).
+/// neighbouring strings ([`fingering::partner_place`]).
 pub(crate) fn plan_notes(
     kind: PlannerKind,
     style: &FingeringStyle,

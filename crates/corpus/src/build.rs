@@ -116,7 +116,8 @@ pub fn build_corpus(
         stats,
         violins: Vec::new(),
         skipped_scores: Vec::new(),
-        double_stops_reduced: 0,
+        double_stops_played: 0,
+        chord_pitches_dropped: 0,
     };
     let json =
         serde_json::to_string_pretty(&manifest).map_err(|e| CorpusError::Config(e.to_string()))?;

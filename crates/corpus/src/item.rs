@@ -6,6 +6,7 @@ use serde::{Deserialize, Serialize};
 use skeleton::Motion;
 
 use crate::augment::Augmentation;
+use crate::double_stop::{double_stops, mix_into, DoubleStops};
 use crate::error::CorpusError;
 use crate::etude::{generate, EtudeConfig};
 use crate::perform::{bow_strokes, perform, TimingDraw};
@@ -70,6 +71,8 @@ pub struct CorpusItem {
     pub tempo_bpm_per_beat: Vec<f64>,
     /// How the performance was timed (`None` for the gentle étude player).
     pub timing: Option<TimingDraw>,
+    /// The second notes of the score's double stops, rendered under the melody.
+    pub double_stops: DoubleStops,
 }
 
 /// The timeline as a validated [`Performance`] with fingering and dynamics.
@@ -128,6 +131,7 @@ pub fn make_item(
         timing: None,
         extra_channels: Vec::new(),
         recording: None,
+        double_stops: DoubleStops::default(),
     })
 }
 
@@ -154,9 +158,21 @@ pub fn clean_etude(
     make_item(seed, &cfg, &synth, RendererKind::Builtin, false)
 }
 
+/// The length in seconds of the item [`make_score_item`] makes from `score` and `seed`
+/// (its performance only: no fingering, motion or audio).
+pub fn performed_length_s(score: &Score, seed: u64) -> f64 {
+    let root = Rng::new(seed);
+    perform(score, root.fork(2).next_u64(), TEMPO_RANGE_BPM)
+        .timeline
+        .duration_s
+}
+
+/// The range of base tempi of repertoire performances, notated beats per minute.
+pub const TEMPO_RANGE_BPM: (f64, f64) = (40.0, 200.0);
+
 /// Makes an item from a written `score` (an étude's or a repertoire excerpt): a human
 /// performance drawn from `seed` ([`perform`]), fingering by the optimal planner, motion,
-/// bow strokes, and audio from `renderer` through a seeded [`Recording`] (room, stereo,
+/// bow strokes, double stops ([`crate::double_stop`]), and audio from `renderer` through a seeded [`Recording`] (room, stereo,
 /// noise, level, rate, lossy coding) with a tuning offset of ±10 cents, or dry at 22.05 kHz
 /// when `augment` is false.
 pub fn make_score_item(
@@ -167,9 +183,10 @@ pub fn make_score_item(
     augment: bool,
 ) -> Result<CorpusItem, CorpusError> {
     let root = Rng::new(seed);
-    let played = perform(score, root.fork(2).next_u64(), (40.0, 200.0));
+    let played = perform(score, root.fork(2).next_u64(), TEMPO_RANGE_BPM);
     let mut timeline = played.timeline;
     timeline.assign_fingering(&fingering::OptimalPlanner::default());
+    let double_stops = double_stops(score, &timeline);
     let performance = performance_of(&timeline)?;
     let motion = synthesize(&performance, &SynthConfig::default())
         .map_err(|e| CorpusError::Performance(e.to_string()))?;
@@ -193,7 +210,15 @@ pub fn make_score_item(
         tuning_cents: augmentation.tuning_cents,
         seed: root.fork(4).next_u64(),
     };
-    let dry = renderer.render(&timeline, &settings)?;
+    let mut dry = renderer.render(&timeline, &settings)?;
+    if !double_stops.notes.is_empty() {
+        let second_voice = double_stops.as_timeline(timeline.duration_s);
+        let second_settings = RenderSettings {
+            seed: root.fork(6).next_u64(),
+            ..settings.clone()
+        };
+        mix_into(&mut dry, &renderer.render(&second_voice, &second_settings)?);
+    }
     let mut channels = recording
         .apply(&dry, recording.sample_rate_hz)
         .map_err(|e| CorpusError::Config(format!("recording chain: {e}")))?
@@ -213,5 +238,6 @@ pub fn make_score_item(
         time_signature: played.time_signature,
         tempo_bpm_per_beat: played.tempo_bpm_per_beat,
         timing: Some(played.timing),
+        double_stops,
     })
 }

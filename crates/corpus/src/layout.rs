@@ -6,6 +6,7 @@
 //! | `performance.json` | the ground-truth `performance::Performance` |
 //! | `notes.tsv` | `onset_s`, `offset_s`, `midi`, `string` (1 = G … 4 = E, 0 = none), `position`, `finger`, `dynamic` (0..1) separated by tabs, with a header |
 //! | `bowchanges.txt`, `beats.txt`, `downbeats.txt` | one time in seconds per line (beats at the notated level: dotted quarters in 6/8, 9/8, 12/8; one per bar in 3/8) |
+//! | `double_stops.tsv` | the second notes of double stops, played under the melody note that starts with them: same columns as `notes.tsv` (header only when there are none) |
 //! | `strokes.tsv` | `start_s`, `end_s`, `direction` (`down`/`up`), `string` (1..=4, 0 = none) |
 //! | `labels.json` | `time_signature`, `beats_per_bar`, `beat_quarters`, `tempo_bpm` (nominal), `tempo_bpm_per_beat` |
 //! | `arousal.csv` | `time_s,arousal` at 2 Hz, in [-1, 1] |
@@ -62,19 +63,11 @@ pub fn write_item(root: &Path, index: usize, item: &CorpusItem) -> Result<PathBu
     }
     let perf = serde_json::to_string(&item.performance).map_err(|e| io_err(dir, e))?;
     write_text(&dir.join("performance.json"), &perf)?;
-    let mut notes = String::from("onset_s\toffset_s\tmidi\tstring\tposition\tfinger\tdynamic\n");
-    for n in &item.timeline.notes {
-        let (string, position, finger) = n
-            .note
-            .fingering
-            .map_or((0, 0, 0), |f| (f.string.number(), f.position, f.finger));
-        let _ = writeln!(
-            notes,
-            "{:.6}\t{:.6}\t{}\t{string}\t{position}\t{finger}\t{:.3}",
-            n.note.onset_s, n.note.offset_s, n.note.midi, n.dynamic
-        );
-    }
-    write_text(&dir.join("notes.tsv"), &notes)?;
+    write_text(&dir.join("notes.tsv"), &notes_tsv(&item.timeline.notes))?;
+    write_text(
+        &dir.join("double_stops.tsv"),
+        &notes_tsv(&item.double_stops.notes),
+    )?;
     let mut strokes = String::from("start_s\tend_s\tdirection\tstring\n");
     for s in &item.strokes {
         let dir = match s.direction {
@@ -121,6 +114,23 @@ pub fn write_item(root: &Path, index: usize, item: &CorpusItem) -> Result<PathBu
     let kept = tmp.keep();
     std::fs::rename(&kept, &final_dir).map_err(|e| io_err(&final_dir, e))?;
     Ok(final_dir)
+}
+
+/// `notes.tsv`'s text for `notes`.
+fn notes_tsv(notes: &[performance::TimedNote]) -> String {
+    let mut out = String::from("onset_s\toffset_s\tmidi\tstring\tposition\tfinger\tdynamic\n");
+    for n in notes {
+        let (string, position, finger) = n
+            .note
+            .fingering
+            .map_or((0, 0, 0), |f| (f.string.number(), f.position, f.finger));
+        let _ = writeln!(
+            out,
+            "{:.6}\t{:.6}\t{}\t{string}\t{position}\t{finger}\t{:.3}",
+            n.note.onset_s, n.note.offset_s, n.note.midi, n.dynamic
+        );
+    }
+    out
 }
 
 fn write_text(path: &Path, text: &str) -> Result<(), CorpusError> {

@@ -27,6 +27,7 @@
 pub mod augment;
 pub mod build;
 mod config;
+pub mod double_stop;
 mod error;
 pub mod etude;
 pub mod item;

@@ -193,7 +193,12 @@ pub struct Manifest {
     /// Repertoire files that were not used, with the reason.
     #[serde(default)]
     pub skipped_scores: Vec<SkippedScore>,
-    /// Chords reduced to their top note (double stops are not rendered yet).
+    /// Double stops played (second notes rendered under the melody, see
+    /// [`crate::double_stop`]).
     #[serde(default)]
-    pub double_stops_reduced: usize,
+    pub double_stops_played: usize,
+    /// Written chord pitches not played: chords reduced to their top note where the second
+    /// note is out of the hand's reach, and the third and fourth notes of larger chords.
+    #[serde(default)]
+    pub chord_pitches_dropped: usize,
 }

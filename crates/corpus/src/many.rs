@@ -51,21 +51,67 @@ fn score_of(plan: &mut ItemPlan, scores: &[Score], cfg: &CorpusConfig) -> Score 
     generate(seed, &cfg.etude).to_score(&format!("etude/{seed}"))
 }
 
-/// How many items make about `cfg.minutes` of audio: items are planned and a timing drawn
-/// for each (cheap: no audio) until their lengths add up.
-fn item_count(cfg: &CorpusConfig, scores: &[Score], works: &WorksBySplit, seeds: &Rng) -> usize {
-    let want_s = cfg.minutes * 60.0;
-    let mut total_s = 0.0;
-    let mut i = 0;
-    while total_s < want_s && i < 1_000_000 {
-        let mut rng = seeds.fork(i as u64);
-        let mut plan = plan_item(i, &mut rng, scores, works, cfg.etude.target_s);
-        let score = score_of(&mut plan, scores, cfg);
-        let played = crate::perform::perform(&score, rng.next_u64(), (40.0, 200.0));
-        total_s += played.timeline.duration_s;
-        i += 1;
+/// What item `i` plays and with which violin: its plan, score, violin index and the seed of
+/// [`make_score_item`]. Drawn the same way for counting and for building.
+struct ItemDraw {
+    plan: ItemPlan,
+    score: Score,
+    violin: usize,
+    rng: Rng,
+    item_seed: u64,
+}
+
+/// The inputs every item is drawn from.
+struct Draws<'a> {
+    cfg: &'a CorpusConfig,
+    scores: &'a [Score],
+    works: WorksBySplit,
+    seeds: Rng,
+    train_violins: Vec<usize>,
+    test_violins: Vec<usize>,
+}
+
+impl Draws<'_> {
+    fn item(&self, i: usize) -> ItemDraw {
+        let mut rng = self.seeds.fork(i as u64);
+        let mut plan = plan_item(
+            i,
+            &mut rng,
+            self.scores,
+            &self.works,
+            self.cfg.etude.target_s,
+        );
+        let score = score_of(&mut plan, self.scores, self.cfg);
+        let pool = if plan.held_out_violin {
+            &self.test_violins
+        } else {
+            &self.train_violins
+        };
+        let violin = rng.pick(pool).copied().unwrap_or(0);
+        let renderer_rng = rng.fork(11);
+        let item_seed = rng.next_u64();
+        ItemDraw {
+            plan,
+            score,
+            violin,
+            rng: renderer_rng,
+            item_seed,
+        }
     }
-    i.max(1)
+
+    /// How many items make at least `cfg.minutes` of audio: each item's performance is drawn
+    /// exactly as the build will draw it (cheap: no audio) until their lengths add up.
+    fn count(&self) -> usize {
+        let want_s = self.cfg.minutes * 60.0;
+        let mut total_s = 0.0;
+        let mut i = 0;
+        while total_s < want_s && i < 1_000_000 {
+            let d = self.item(i);
+            total_s += crate::item::performed_length_s(&d.score, d.item_seed);
+            i += 1;
+        }
+        i.max(1)
+    }
 }
 
 /// Builds a many-violin corpus into `root` (see [`crate::build::build_corpus`]).
@@ -80,52 +126,57 @@ pub fn build_many(
         Some(dir) => crate::repertoire::read_dir(dir)?,
         None => (Vec::new(), Vec::new()),
     };
-    let works = WorksBySplit::of(&scores);
-    let seeds = Rng::new(cfg.seed);
-    let count = item_count(cfg, &scores, &works, &seeds);
-    let train_violins = bank.indices(false);
-    let test_violins = bank.indices(true);
+    let draws = Draws {
+        cfg,
+        scores: &scores,
+        works: WorksBySplit::of(&scores),
+        seeds: Rng::new(cfg.seed),
+        train_violins: bank.indices(false),
+        test_violins: bank.indices(true),
+    };
+    let count = draws.count();
     let done = AtomicUsize::new(0);
-    type Entry = (ManifestItem, Timeline, String, usize);
+    type Entry = (ManifestItem, Timeline, String, (usize, usize));
     let entries: Vec<Result<Entry, CorpusError>> = (0..count)
         .into_par_iter()
         .map(|i| {
-            let mut rng = seeds.fork(i as u64);
-            let mut plan = plan_item(i, &mut rng, &scores, &works, cfg.etude.target_s);
-            let score = score_of(&mut plan, &scores, cfg);
-            let pool = if plan.held_out_violin {
-                &test_violins
-            } else {
-                &train_violins
-            };
-            let violin = rng.pick(pool).copied().unwrap_or(0);
+            let ItemDraw {
+                plan,
+                score,
+                violin,
+                mut rng,
+                item_seed,
+            } = draws.item(i);
             let spec = bank
                 .spec(violin)
                 .ok_or_else(|| CorpusError::Config(format!("no violin source {violin}")))?;
             let renderer = bank
-                .renderer(violin, &mut rng.fork(11))
+                .renderer(violin, &mut rng)
                 .ok_or_else(|| CorpusError::Config(format!("no violin source {violin}")))?;
             let kind = match spec.kind {
                 SourceKind::Builtin => RendererKind::Builtin,
                 SourceKind::Waveguide => RendererKind::Waveguide,
                 SourceKind::SoundFont { .. } => RendererKind::Soundfont,
             };
-            let item =
-                make_score_item(&score, rng.next_u64(), renderer.as_ref(), kind, cfg.augment)?;
+            let item = make_score_item(&score, item_seed, renderer.as_ref(), kind, cfg.augment)?;
             let written = write_item(root, i, &item)?;
             let audio = crate::layout::item_audio(&written)
                 .file_name()
                 .map_or_else(|| "audio.wav".into(), |n| n.to_string_lossy().to_string());
             progress(done.fetch_add(1, Ordering::Relaxed) + 1, count);
             let meter = item.time_signature.to_string();
-            let double_stops = score.notes.iter().filter(|n| !n.lower.is_empty()).count();
+            let chords = (
+                item.double_stops.notes.len(),
+                item.double_stops.pitches_dropped,
+            );
             let entry = ManifestItem::of(i, &item, plan.split, plan.held_out, spec.name, audio);
-            Ok((entry, item.timeline, meter, double_stops))
+            Ok((entry, item.timeline, meter, chords))
         })
         .collect();
     let entries = entries.into_iter().collect::<Result<Vec<_>, _>>()?;
     let stats = CorpusStats::of(entries.iter().map(|(_, t, m, _)| (t, m.as_str())));
-    let double_stops_reduced = entries.iter().map(|e| e.3).sum();
+    let double_stops_played = entries.iter().map(|e| e.3 .0).sum();
+    let chord_pitches_dropped = entries.iter().map(|e| e.3 .1).sum();
     let manifest = Manifest {
         version: MANIFEST_VERSION,
         seed: cfg.seed,
@@ -134,7 +185,8 @@ pub fn build_many(
         stats,
         violins: bank.infos(),
         skipped_scores: skipped,
-        double_stops_reduced,
+        double_stops_played,
+        chord_pitches_dropped,
     };
     let json =
         serde_json::to_string_pretty(&manifest).map_err(|e| CorpusError::Config(e.to_string()))?;

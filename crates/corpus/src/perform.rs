@@ -43,8 +43,6 @@ pub struct Played {
     pub time_signature: TimeSignature,
     /// Local tempo at each beat (from that beat to the next), notated beats per minute.
     pub tempo_bpm_per_beat: Vec<f64>,
-    /// Chords reduced to their top note (double stops the renderers do not play).
-    pub double_stops: usize,
     /// The timing that was drawn.
     pub timing: TimingDraw,
 }
@@ -190,7 +188,6 @@ pub fn perform(score: &Score, seed: u64, tempo_range_bpm: (f64, f64)) -> Played 
         },
         time_signature: ts,
         tempo_bpm_per_beat,
-        double_stops: score.notes.iter().filter(|n| !n.lower.is_empty()).count(),
         timing,
     }
 }

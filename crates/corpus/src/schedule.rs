@@ -123,7 +123,7 @@ pub fn plan_item(
     let etude_share = if slot >= 23 { 0.0 } else { 0.35 };
     let pick = pool
         .filter(|p| !p.is_empty() && !rng.chance(etude_share))
-        .and_then(|p| rng.pick(p).copied());
+        .and_then(|p| pick_by_meter(p, scores, rng));
     let (music, held_out) = match pick.and_then(|s| scores.get(s).map(|sc| (s, sc))) {
         Some((s, score)) => (excerpt(s, score, rng, target_s), held_out),
         None => {
@@ -144,6 +144,32 @@ pub fn plan_item(
     }
 }
 
+/// Draws a score from `pool`, meters first: each main time signature in the pool is drawn
+/// with a weight of the square root of its score count, then a score of it uniformly. Rare
+/// meters (12/8, 9/8, 3/8) thus get many more items than their share of the scores, common
+/// ones (2/4, 6/8) somewhat fewer.
+pub fn pick_by_meter(pool: &[usize], scores: &[Score], rng: &mut Rng) -> Option<usize> {
+    let mut groups: std::collections::BTreeMap<(u8, u8), Vec<usize>> = Default::default();
+    for &i in pool {
+        if let Some(s) = scores.get(i) {
+            let ts = s.main_time_signature();
+            groups
+                .entry((ts.numerator, ts.denominator))
+                .or_default()
+                .push(i);
+        }
+    }
+    let total: f64 = groups.values().map(|g| (g.len() as f64).sqrt()).sum();
+    let mut x = rng.uniform(0.0, total);
+    for g in groups.values() {
+        x -= (g.len() as f64).sqrt();
+        if x < 0.0 {
+            return rng.pick(g).copied();
+        }
+    }
+    groups.values().last().and_then(|g| rng.pick(g).copied())
+}
+
 /// A run of bars of `score` lasting about `target_s` at its marked tempo (or 100 beats per
 /// minute), starting at a drawn bar.
 fn excerpt(index: usize, score: &Score, rng: &mut Rng, target_s: f64) -> Music {
@@ -162,5 +188,44 @@ fn excerpt(index: usize, score: &Score, rng: &mut Rng, target_s: f64) -> Music {
         score: index,
         first_bar,
         bars,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::score::{Bar, Provenance};
+    use performance::TimeSignature;
+
+    fn score(num: u8, den: u8) -> Score {
+        Score {
+            work: format!("w{num}/{den}"),
+            id: String::new(),
+            bars: vec![Bar {
+                start_q: 0.0,
+                len_q: 4.0 * f64::from(num) / f64::from(den),
+                time_signature: TimeSignature::new(num, den),
+            }],
+            notes: Vec::new(),
+            tempo_bpm: None,
+            provenance: Provenance::default(),
+        }
+    }
+
+    #[test]
+    fn rare_meters_are_drawn_far_above_their_share() {
+        let mut scores: Vec<Score> = (0..100).map(|_| score(2, 4)).collect();
+        scores.push(score(12, 8));
+        let pool: Vec<usize> = (0..scores.len()).collect();
+        let mut rng = Rng::new(3);
+        let draws = 4000;
+        let rare = (0..draws)
+            .filter(|_| pick_by_meter(&pool, &scores, &mut rng) == Some(100))
+            .count();
+        // Weights √100 : √1, so 1/11 ≈ 9 % of the draws (uniform would give 1 %).
+        let share = rare as f64 / draws as f64;
+        assert!((0.07..0.115).contains(&share), "12/8 share {share}");
+        assert_eq!(pick_by_meter(&[], &scores, &mut rng), None);
+        assert_eq!(pick_by_meter(&[100], &scores, &mut rng), Some(100));
     }
 }

@@ -9,7 +9,8 @@ use corpus::repertoire::{read_dir, read_score};
 use corpus::schedule::{work_split, HeldOut};
 
 fn tiny_repertoire(dir: &Path) -> std::io::Result<()> {
-    // Two short tunes in 6/8 and 3/8 with a pickup, slurs and a fermata, in the score schema.
+    // Two short tunes in 6/8 and 3/8 with a pickup, slurs, a fermata and double stops (every
+    // fourth note, a sixth below), in the score schema.
     for (name, num, den, pickup) in [("jig", 6u8, 8u8, 0.5), ("waltz", 3, 8, 0.0)] {
         let bar_q = f64::from(num) * 4.0 / f64::from(den);
         let mut bars = vec![
@@ -25,7 +26,8 @@ fn tiny_repertoire(dir: &Path) -> std::io::Result<()> {
         let mut k = 0;
         while q < start - 1e-9 {
             notes.push(serde_json::json!({
-                "start_q": q, "dur_q": 0.5, "midi": [67 + (k * 5) % 12],
+                "start_q": q, "dur_q": 0.5,
+                "midi": if k % 4 == 3 { vec![67 + (k * 5) % 12, 58 + (k * 5) % 12] } else { vec![67 + (k * 5) % 12] },
                 "slurred": k % 3 == 1, "staccato": k % 7 == 0, "accent": false,
                 "fermata": q + 0.5 >= start - 1e-9, "dynamic": null
             }));
@@ -92,7 +94,13 @@ fn many_violin_corpus_splits_by_work_and_violin() {
         ..CorpusConfig::default()
     };
     let m = build_corpus(out.path(), &cfg, &|_, _| {}).unwrap();
-    assert!(m.stats.minutes > 2.0, "{} min", m.stats.minutes);
+    assert!(m.stats.minutes >= 2.5, "{} min", m.stats.minutes);
+    assert!(
+        m.double_stops_played > 0 && m.chord_pitches_dropped > 0,
+        "double stops played {}, pitches dropped {}",
+        m.double_stops_played,
+        m.chord_pitches_dropped
+    );
     assert_eq!(m.skipped_scores.len(), 2);
     let held: Vec<_> = m
         .violins
@@ -129,6 +137,25 @@ fn many_violin_corpus_splits_by_work_and_violin() {
             let t: f64 = line.parse().unwrap();
             assert!(onsets.iter().any(|o| (o - t).abs() < 1e-5));
         }
+        // Every double stop sounds with a melody note, one string lower.
+        let notes = std::fs::read_to_string(dir.join("notes.tsv")).unwrap();
+        let melody: Vec<Vec<&str>> = notes
+            .lines()
+            .skip(1)
+            .map(|l| l.split('\t').collect())
+            .collect();
+        for l in std::fs::read_to_string(dir.join("double_stops.tsv"))
+            .unwrap()
+            .lines()
+            .skip(1)
+        {
+            let second: Vec<&str> = l.split('\t').collect();
+            let top = melody.iter().find(|m| m[0] == second[0]).unwrap();
+            let (top_string, string): (u8, u8) =
+                (top[3].parse().unwrap(), second[3].parse().unwrap());
+            assert_eq!(string + 1, top_string, "{l}");
+            assert!(second[2].parse::<u8>().unwrap() < top[2].parse::<u8>().unwrap());
+        }
         let strokes = std::fs::read_to_string(dir.join("strokes.tsv")).unwrap();
         assert_eq!(
             strokes.lines().count() - 1,
@@ -160,7 +187,13 @@ fn many_violin_corpus_splits_by_work_and_violin() {
     assert!(lossy > 0 && stereo > 0, "lossy {lossy}, stereo {stereo}");
     for it in m.items.iter().take(6) {
         assert!(out.path().join(&it.dir).join(&it.audio).is_file());
-        for f in [it.audio.as_str(), "notes.tsv", "strokes.tsv", "labels.json"] {
+        for f in [
+            it.audio.as_str(),
+            "notes.tsv",
+            "double_stops.tsv",
+            "strokes.tsv",
+            "labels.json",
+        ] {
             assert_eq!(
                 std::fs::read(out.path().join(&it.dir).join(f)).unwrap(),
                 std::fs::read(again.path().join(&it.dir).join(f)).unwrap(),

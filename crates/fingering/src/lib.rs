@@ -41,6 +41,7 @@ mod greedy;
 mod learned;
 mod learned_params;
 mod optimal;
+mod partner;
 pub mod physical;
 mod placement;
 mod places;
@@ -59,6 +60,7 @@ pub use learned::{context, learned_places, LearnedPlanner, LEARNED_MAX_POSITION}
 pub use learned_params::CONTEXTS;
 pub use learned_params::{LearnedParams, LEARNED_PARAMS_TSV};
 pub use optimal::OptimalPlanner;
+pub use partner::partner_place;
 pub use placement::Placement;
 pub use places::places_for;
 pub use planner::FingeringPlanner;
