@@ -74,8 +74,8 @@ impl Hmm {
         let mut to_unvoiced = vec![0.0f32; n];
         let mut from_unvoiced_v = vec![false; n];
         let mut from_unvoiced_u = vec![false; n];
-        let mut best_d_v = vec![0usize; n];
-        let mut best_d_u = vec![0usize; n];
+        let mut best_d_v = vec![0u32; n];
+        let mut best_d_u = vec![0u32; n];
 
         self.emissions(obs, 0, &mut emit);
         let ln_init = ln_guarded(1.0 / (2 * n) as f64);
@@ -99,8 +99,8 @@ impl Hmm {
             let row = &mut back[t * 2 * n..(t + 1) * 2 * n];
             let mut peak = f32::NEG_INFINITY;
             for j in 0..n {
-                let src_v = j + self.half - best_d_v[j];
-                let src_u = j + self.half - best_d_u[j];
+                let src_v = j + self.half - best_d_v[j] as usize;
+                let src_u = j + self.half - best_d_u[j] as usize;
                 row[j] = (src_v + if from_unvoiced_v[src_v] { n } else { 0 }) as u16;
                 row[n + j] = (src_u + if from_unvoiced_u[src_u] { n } else { 0 }) as u16;
                 next_v[j] += emit[j];
@@ -125,22 +125,38 @@ impl Hmm {
         path
     }
 
-    /// `out[j] = max_d (from[j − d] + ln T(j − d → j))`, `best[j]` = the winning `d + half`.
-    fn band_max(&self, from: &[f32], out: &mut [f32], best: &mut [usize]) {
+    /// `out[j] = max_d (from[j − d] + ln T(j − d → j))`, `best[j]` = the winning `d + half`
+    /// (the first on ties). One pass per diagonal over contiguous slices, written as
+    /// branch-free selects so that it vectorises.
+    fn band_max(&self, from: &[f32], out: &mut [f32], best: &mut [u32]) {
         let n = self.n_bins;
         out.fill(f32::NEG_INFINITY);
-        best.fill(self.half);
+        best.fill(self.half as u32);
         for k in 0..=2 * self.half {
-            let d = k as isize - self.half as isize;
-            let lo = d.max(0) as usize;
-            let hi = (n as isize + d.min(0)) as usize;
-            let diag = &self.diag[k * n..(k + 1) * n];
-            for j in lo..hi {
-                let cand = from[(j as isize - d) as usize] + diag[j];
-                if cand > out[j] {
-                    out[j] = cand;
-                    best[j] = k;
-                }
+            // Diagonal d = k − half: bins lo..hi take from bins lo − d..hi − d.
+            let (lo, hi, src_lo) = if k >= self.half {
+                let d = k - self.half;
+                (d, n, 0)
+            } else {
+                let d = self.half - k;
+                (0, n - d, d)
+            };
+            if lo >= hi {
+                continue;
+            }
+            let src = &from[src_lo..src_lo + (hi - lo)];
+            let diag = &self.diag[k * n + lo..k * n + hi];
+            let kk = k as u32;
+            for (((o, b), &f), &t) in out[lo..hi]
+                .iter_mut()
+                .zip(&mut best[lo..hi])
+                .zip(src)
+                .zip(diag)
+            {
+                let cand = f + t;
+                let better = cand > *o;
+                *o = if better { cand } else { *o };
+                *b = if better { kk } else { *b };
             }
         }
     }

@@ -100,15 +100,16 @@ impl Geometry {
                     continue;
                 }
                 let iy = iy - self.pad_h;
-                for dx in 0..self.kw {
-                    let ix = xo + dx;
-                    let d = &mut row[dx * self.c..(dx + 1) * self.c];
-                    if ix < self.pad_w || ix >= self.w + self.pad_w {
-                        d.fill(0.0);
-                    } else {
-                        let s = ((bi * self.h + iy) * self.w + ix - self.pad_w) * self.c;
-                        d.copy_from_slice(&x[s..s + self.c]);
-                    }
+                // Taps dx in dx0..dx1 fall inside the row; in NHWC they are one contiguous
+                // run of the input, copied at once (the others are padding).
+                let dx0 = self.pad_w.saturating_sub(xo).min(self.kw);
+                let dx1 = (self.w + self.pad_w).saturating_sub(xo).clamp(dx0, self.kw);
+                row[..dx0 * self.c].fill(0.0);
+                row[dx1 * self.c..].fill(0.0);
+                if dx1 > dx0 {
+                    let s = ((bi * self.h + iy) * self.w + xo + dx0 - self.pad_w) * self.c;
+                    row[dx0 * self.c..dx1 * self.c]
+                        .copy_from_slice(&x[s..s + (dx1 - dx0) * self.c]);
                 }
             }
         }
