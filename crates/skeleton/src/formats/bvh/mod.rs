@@ -64,6 +64,7 @@
 //! ```
 
 mod euler;
+mod fixed;
 mod parse;
 mod performer;
 mod write;

@@ -402,7 +402,7 @@ pub(super) fn write_performer_bvh(
             if i > 0 {
                 text.push(' ');
             }
-            let _ = std::fmt::Write::write_fmt(&mut text, format_args!("{v:.4}"));
+            super::fixed::push_fixed4(&mut text, *v);
         }
         text.push('\n');
         out.write_all(text.as_bytes())?;

@@ -294,8 +294,7 @@ pub fn write_bvh(motion: &Motion, mut out: impl Write) -> Result<()> {
             if i > 0 {
                 text.push(' ');
             }
-            // Writing to a String cannot fail.
-            let _ = std::fmt::Write::write_fmt(&mut text, format_args!("{v:.4}"));
+            super::fixed::push_fixed4(&mut text, *v);
         }
         text.push('\n');
         out.write_all(text.as_bytes())?;
