@@ -9,6 +9,20 @@ import pytest
 import violin_skeleton as vs
 
 
+def test_candle_elementwise_ops_stay_on_one_thread_unless_the_user_chose():
+    import os
+    import subprocess
+    import sys
+
+    code = "import os, violin_skeleton; print(os.environ['CANDLE_NUM_THREADS'])"
+    env = {k: v for k, v in os.environ.items() if k != "CANDLE_NUM_THREADS"}
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True)
+    assert out.stdout.strip() == "1", out.stderr
+    env["CANDLE_NUM_THREADS"] = "2"
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True)
+    assert out.stdout.strip() == "2", out.stderr
+
+
 def test_import_exposes_the_api():
     for name in ["analyze", "generate", "features", "Pipeline", "Analysis", "Motion",
                  "ViolinSkeletonError"]:

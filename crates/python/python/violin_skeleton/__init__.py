@@ -27,10 +27,16 @@ file; :class:`InputNotFoundError` is also a ``FileNotFoundError``, :class:`Inval
 
 from __future__ import annotations
 
+import os
 import threading
 from typing import Dict, Optional
 
-from ._native import (
+# candle would run each element-wise op across every core behind a spinning barrier; the
+# pipeline already runs its stages on the cores at once, so those ops stay on the calling
+# thread (as in the CLI) unless the user has chosen otherwise. Set before any network runs.
+os.environ.setdefault("CANDLE_NUM_THREADS", "1")
+
+from ._native import (  # noqa: E402
     MAX_CHANNELS,
     Analysis,
     InputIsDirectoryError,
