@@ -59,7 +59,7 @@ enum Command {
     PoseLabels(pose_labels::PoseLabelsArgs),
     /// Analyse a recording or MIDI file: f0, notes with fingering, bow changes, beats, downbeats, meter, arousal (analysis.json).
     Analyze(analyze::AnalyzeArgs),
-    /// Draw a motion as an animated GIF, PNG frames, an HTML player or an MP4 with the audio; or convert it to .glb.
+    /// Draw a motion as an animated GIF, PNG frames, an HTML player or an MP4 with the audio; or convert it to .glb or to OpenPose frames fitted to a canvas.
     Render(render::RenderArgs),
     /// Every SPEC §10 measure on a labelled corpus or URMP folder: a table, and a JSON report.
     Evaluate(evaluate::EvaluateArgs),

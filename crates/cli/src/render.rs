@@ -22,7 +22,7 @@ use crate::Reporter;
 /// Arguments of `render`.
 #[derive(Debug, Args)]
 #[command(
-    after_help = "The output's extension chooses the kind: .gif (animated GIF), .html (one self-contained page with a canvas, the motion and the audio), .mp4 (H.264 video with the audio as AAC, through ffmpeg), .glb (the 3-D motion as glTF 2.0 binary), anything else a folder of PNG frames (created if missing).\n\nExamples:\n  violin-skeleton render motion.json -o preview.gif\n  violin-skeleton render motion.json --audio take1.wav -o player.html\n  violin-skeleton render motion.json --audio take1.wav --width 1280 --height 720 -o take1.mp4\n  violin-skeleton render motion.json -o motion.glb\n  violin-skeleton render motion.json --width 1280 --height 720 --fps 30 -o frames/"
+    after_help = "The output's extension chooses the kind: .gif (animated GIF), .html (one self-contained page with a canvas, the motion and the audio), .mp4 (H.264 video with the audio as AAC, through ffmpeg), .glb (the 3-D motion as glTF 2.0 binary), anything else a folder of PNG frames (created if missing), or with --openpose a folder of OpenPose frames fitted to --canvas.\n\nExamples:\n  violin-skeleton render motion.json -o preview.gif\n  violin-skeleton render motion.json --audio take1.wav -o player.html\n  violin-skeleton render motion.json --audio take1.wav --width 1280 --height 720 -o take1.mp4\n  violin-skeleton render motion.json -o motion.glb\n  violin-skeleton render motion.json --width 1280 --height 720 --fps 30 -o frames/\n  violin-skeleton render motion.json --openpose --canvas 1024x1024 -o poses/"
 )]
 pub struct RenderArgs {
     /// Motion file (motion .json; .csv, .npy or an OpenPose folder also work).
@@ -48,6 +48,13 @@ pub struct RenderArgs {
     /// motion's rate).
     #[arg(long)]
     pub fps: Option<f64>,
+    /// Write the output folder as OpenPose `*_keypoints.json` frames (BODY_25 and both
+    /// hands, every motion frame) fitted to `--canvas`, as `generate --format openpose` does.
+    #[arg(long)]
+    pub openpose: bool,
+    /// OpenPose picture size WIDTHxHEIGHT (with `--openpose`).
+    #[arg(long, default_value = "1280x720")]
+    pub canvas: String,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -57,6 +64,7 @@ enum Kind {
     Mp4,
     Glb,
     PngFrames,
+    OpenPose,
 }
 
 fn output_kind(path: &Path) -> Result<Kind, CliError> {
@@ -103,7 +111,24 @@ fn warn_on_drift(audio_s: f64, motion: &Motion, report: &Reporter) {
 /// Runs `render`.
 pub fn run(args: &RenderArgs, report: &Reporter) -> Result<(), CliError> {
     let t0 = Instant::now();
-    let kind = output_kind(&args.output)?;
+    let kind = match (output_kind(&args.output)?, args.openpose) {
+        (Kind::PngFrames, true) => Kind::OpenPose,
+        (_, true) => {
+            return Err(CliError::Usage(format!(
+                "-o {}: --openpose writes a folder of frames; give a folder name",
+                args.output.display()
+            )))
+        }
+        (kind, false) => kind,
+    };
+    let canvas = crate::generate::parse_canvas(&args.canvas)?;
+    if kind == Kind::OpenPose {
+        refuse_stdout_folder(
+            named("-o", &args.output),
+            "OpenPose output",
+            "give a folder name",
+        )?;
+    }
     if kind == Kind::PngFrames {
         refuse_stdout_folder(
             named("-o", &args.output),
@@ -199,6 +224,16 @@ pub fn run(args: &RenderArgs, report: &Reporter) -> Result<(), CliError> {
         Kind::Glb => {
             motion.write(&args.output, MotionFormat::Glb)?;
             "glTF 2.0 binary".to_string()
+        }
+        Kind::OpenPose => {
+            let format = crate::generate::OutFormat::Openpose;
+            crate::generate::write_motion(&motion, &args.output, format, canvas)?;
+            format!(
+                "{} OpenPose frames on a {}×{} canvas",
+                motion.len(),
+                canvas.width_px,
+                canvas.height_px
+            )
         }
         Kind::Html => {
             let midi_notes = match &args.audio {

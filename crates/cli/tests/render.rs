@@ -1,4 +1,4 @@
-//! `violin-skeleton render` end to end: GIF, HTML with audio, PNG frames, bad inputs.
+//! `violin-skeleton render` end to end: GIF, HTML with audio, PNG frames, OpenPose, bad inputs.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use std::path::Path;
@@ -137,4 +137,74 @@ fn bad_inputs_give_one_line_errors() {
     // A bad flag value is a usage error (exit 2).
     let (code, err) = run(&[m, "--width", "0", "-o", gif.to_str().unwrap()]);
     assert_eq!(code, 2, "{err}");
+}
+
+#[test]
+fn openpose_frames_fitted_to_the_canvas_as_generate_writes_them() {
+    use violin_skeleton::skeleton::canvas::{Canvas, DEFAULT_CANVAS_MARGIN};
+    use violin_skeleton::skeleton::formats::OpenPoseOptions;
+    use violin_skeleton::skeleton::Motion;
+
+    let dir = tempfile::tempdir().unwrap();
+    let motion_path = dir.path().join("motion.json");
+    write_motion(&motion_path);
+    let poses = dir.path().join("cli").join("poses");
+    std::fs::create_dir_all(dir.path().join("cli")).unwrap();
+    std::fs::create_dir_all(dir.path().join("lib")).unwrap();
+    let out = cli()
+        .arg("render")
+        .arg(&motion_path)
+        .args(["--openpose", "--canvas", "640x640", "-o"])
+        .arg(&poses)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    // The same frames as the library writes for a canvas-fitted motion (what generate does).
+    let expected = dir.path().join("lib").join("poses");
+    let motion = Motion::read(&motion_path, MotionFormat::Json).unwrap();
+    let canvas: Canvas = "640x640".parse().unwrap();
+    motion
+        .fitted_to_canvas(canvas, DEFAULT_CANVAS_MARGIN)
+        .write_openpose(&expected, &OpenPoseOptions::named_after(&expected))
+        .unwrap();
+    let mut names: Vec<_> = std::fs::read_dir(&expected)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    names.sort();
+    assert_eq!(names.len(), motion.len());
+    for name in &names {
+        assert_eq!(
+            std::fs::read(poses.join(name)).unwrap(),
+            std::fs::read(expected.join(name)).unwrap(),
+            "{name:?}"
+        );
+    }
+    let first = std::fs::read_to_string(poses.join(&names[0])).unwrap();
+    assert!(first.contains("hand_left_keypoints_2d") && first.contains("pose_keypoints_2d"));
+
+    // A file output or a bad canvas is a usage error (exit 2) with one line.
+    for args in [
+        vec!["--openpose", "-o", "x.gif"],
+        vec!["--openpose", "--canvas", "0x0", "-o", "p"],
+        vec!["--openpose", "--canvas", "abc", "-o", "p"],
+    ] {
+        let out = cli()
+            .current_dir(dir.path())
+            .arg("render")
+            .arg(&motion_path)
+            .args(&args)
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert_eq!(
+            String::from_utf8_lossy(&out.stderr).lines().count(),
+            1,
+            "{args:?}"
+        );
+    }
 }
