@@ -44,15 +44,6 @@ impl DoubleStops {
 /// Where a lower note `midi` of a double stop is played under `top`: its
 /// [`partner_place`], when that is on the string next below and in reach of the hand (an
 /// open string, or within one position of the melody's).
-pub fn second_place(top: Fingering, midi: u8) -> Option<Fingering> {
-    partner_place(&top, midi).filter(|f| {
-        f.string.number() + 1 == top.string.number()
-            && (f.is_open() || f.position.abs_diff(top.position) <= 1)
-    })
-}
-
-/// The double stops of `score` as performed in `timeline` (one timed note per score note,
-/// fingered). Notes without a fingering keep their chords unplayed.
 ///
 /// ```
 /// use corpus::double_stop::second_place;
@@ -63,6 +54,15 @@ pub fn second_place(top: Fingering, midi: u8) -> Option<Fingering> {
 /// // Nothing lies below the G string.
 /// assert_eq!(second_place(Fingering::new(ViolinString::G, 1, 1), 55), None);
 /// ```
+pub fn second_place(top: Fingering, midi: u8) -> Option<Fingering> {
+    partner_place(&top, midi).filter(|f| {
+        f.string.number() + 1 == top.string.number()
+            && (f.is_open() || f.position.abs_diff(top.position) <= 1)
+    })
+}
+
+/// The double stops of `score` as performed in `timeline` (one timed note per score note,
+/// fingered). Notes without a fingering keep their chords unplayed.
 pub fn double_stops(score: &Score, timeline: &Timeline) -> DoubleStops {
     let mut out = DoubleStops::default();
     for (written, played) in score.notes.iter().zip(&timeline.notes) {

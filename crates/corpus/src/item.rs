@@ -172,9 +172,9 @@ pub const TEMPO_RANGE_BPM: (f64, f64) = (40.0, 200.0);
 
 /// Makes an item from a written `score` (an étude's or a repertoire excerpt): a human
 /// performance drawn from `seed` ([`perform`]), fingering by the optimal planner, motion,
-/// bow strokes, double stops ([`crate::double_stop`]), and audio from `renderer` through a seeded [`Recording`] (room, stereo,
-/// noise, level, rate, lossy coding) with a tuning offset of ±10 cents, or dry at 22.05 kHz
-/// when `augment` is false.
+/// bow strokes, double stops ([`crate::double_stop`]), and audio from `renderer` through a
+/// seeded [`Recording`] (room, stereo, noise, level, rate, lossy coding) with a tuning
+/// offset of ±10 cents, or dry at 22.05 kHz when `augment` is false.
 pub fn make_score_item(
     score: &Score,
     seed: u64,

@@ -28,6 +28,24 @@ pub(crate) fn push_fixed4(out: &mut String, v: f64) {
     }
 }
 
+/// Writes one BVH frame line to `out`: the numbers of `row` with four decimals, separated
+/// by spaces, built in the reused buffer `text`.
+pub(crate) fn write_frame_line(
+    out: &mut dyn std::io::Write,
+    text: &mut String,
+    row: &[f64],
+) -> std::io::Result<()> {
+    text.clear();
+    for (i, v) in row.iter().enumerate() {
+        if i > 0 {
+            text.push(' ');
+        }
+        push_fixed4(text, *v);
+    }
+    text.push('\n');
+    out.write_all(text.as_bytes())
+}
+
 /// The decimal digits of `n` (a small stack buffer).
 fn itoa_buf(mut n: u64) -> Digits {
     let mut d = Digits {

@@ -397,15 +397,7 @@ pub(super) fn write_performer_bvh(
                 }
             }
         }
-        text.clear();
-        for (i, v) in row.iter().enumerate() {
-            if i > 0 {
-                text.push(' ');
-            }
-            super::fixed::push_fixed4(&mut text, *v);
-        }
-        text.push('\n');
-        out.write_all(text.as_bytes())?;
+        super::fixed::write_frame_line(&mut out, &mut text, &row)?;
         prev.clone_from(&row);
     }
     out.flush()?;

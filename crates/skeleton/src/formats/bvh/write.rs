@@ -289,15 +289,7 @@ pub fn write_bvh(motion: &Motion, mut out: impl Write) -> Result<()> {
                 *v -= 360.0 * ((*v - q) / 360.0).round();
             }
         }
-        text.clear();
-        for (i, v) in row.iter().enumerate() {
-            if i > 0 {
-                text.push(' ');
-            }
-            super::fixed::push_fixed4(&mut text, *v);
-        }
-        text.push('\n');
-        out.write_all(text.as_bytes())?;
+        super::fixed::write_frame_line(&mut out, &mut text, &row)?;
         match &mut prev {
             Some(p) => p.clone_from(&row),
             None => prev = Some(row.clone()),
