@@ -6,6 +6,7 @@ use serde::{Deserialize, Serialize};
 use skeleton::Motion;
 
 use crate::augment::Augmentation;
+use crate::bow_weight::{apply_bow_weight, draw_tilt_db};
 use crate::double_stop::{double_stops, mix_into, DoubleStops};
 use crate::error::CorpusError;
 use crate::etude::{generate, EtudeConfig};
@@ -16,6 +17,9 @@ use crate::score::Score;
 use crate::timing::play;
 use net_core::rng::Rng;
 use performance::Timeline;
+
+/// The item seed's fork that draws the bow-weight tilt ([`crate::bow_weight`]).
+const BOW_WEIGHT_FORK: u64 = 7;
 
 /// Which renderer made an item.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -110,8 +114,10 @@ pub fn make_item(
         seed: root.fork(4).next_u64(),
     };
     let mut audio = renderer.render(&timeline, &settings)?;
-    augmentation.apply(&mut audio, root.fork(5).next_u64());
     let strokes = bow_strokes(&timeline);
+    let tilt_db = draw_tilt_db(&mut root.fork(BOW_WEIGHT_FORK));
+    apply_bow_weight(&mut audio, settings.sample_rate_hz, &strokes, tilt_db);
+    augmentation.apply(&mut audio, root.fork(5).next_u64());
     let tempo_bpm_per_beat = timeline
         .beats_s
         .windows(2)
@@ -219,6 +225,8 @@ pub fn make_score_item(
         };
         mix_into(&mut dry, &renderer.render(&second_voice, &second_settings)?);
     }
+    let tilt_db = draw_tilt_db(&mut root.fork(BOW_WEIGHT_FORK));
+    apply_bow_weight(&mut dry, settings.sample_rate_hz, &strokes, tilt_db);
     let mut channels = recording
         .apply(&dry, recording.sample_rate_hz)
         .map_err(|e| CorpusError::Config(format!("recording chain: {e}")))?

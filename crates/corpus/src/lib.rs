@@ -25,6 +25,7 @@
 //! ```
 
 pub mod augment;
+pub mod bow_weight;
 pub mod build;
 mod config;
 pub mod double_stop;
