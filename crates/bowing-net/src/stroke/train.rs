@@ -61,6 +61,10 @@ pub struct StrokeTrainConfig {
     pub seed: u64,
     /// Cap on steps per epoch (for quick runs); `None` = a full epoch.
     pub max_steps_per_epoch: Option<usize>,
+    /// Start from these weights (a stroke-network safetensors file, same shape) instead of
+    /// a seeded initialisation: training then continues them (fine-tuning), with the
+    /// normalisation statistics stored in that file.
+    pub init_from: Option<std::path::PathBuf>,
 }
 
 impl Default for StrokeTrainConfig {
@@ -77,6 +81,7 @@ impl Default for StrokeTrainConfig {
             string_weight: 0.5,
             seed: 1,
             max_steps_per_epoch: None,
+            init_from: None,
         }
     }
 }
@@ -210,6 +215,18 @@ pub fn train_strokes(
         (name.ends_with("weight") && !name.starts_with("norm.")).then(|| vars::glorot_bound(dims))
     })?;
     net_core::set_band_statistics(&varmap, inputs.iter().map(|x| x.view()), features)?;
+    if let Some(init) = &cfg.init_from {
+        let start = StrokeDetector::load(init)?;
+        let mut target = varmap.clone();
+        for (name, tensor) in start.named_tensors() {
+            target.set_one(name, tensor).map_err(|e| {
+                NetError::Input(format!(
+                    "{}: cannot start from tensor {name} ({e})",
+                    init.display()
+                ))
+            })?;
+        }
+    }
     let params = vars::trainable_vars(&varmap, |n| n.starts_with("norm."));
     let mut adam = Adam::new(
         params,
