@@ -239,8 +239,16 @@ impl Pipeline {
         drop_crowded(&mut downbeats_s, 0.5);
         timings.decode_s = decode_s;
         // Directions and strokes over the whole file, as for a whole analysis; the strings
-        // the chunks heard are kept.
-        let bow_directions = performance::bow_directions(&bow_changes_s, &notes, &downbeats_s);
+        // the chunks heard are kept, and so are their directions when the bowing model
+        // decodes them from the audio.
+        let mut bow_directions = performance::bow_directions(&bow_changes_s, &notes, &downbeats_s);
+        if self.hears_directions()? {
+            crate::strokes::keep_heard_directions(
+                &bow_changes_s,
+                &mut bow_directions,
+                &heard_strokes,
+            );
+        }
         let bow_strokes = crate::strokes::strokes_with_heard_strings(
             &bow_changes_s,
             &bow_directions,

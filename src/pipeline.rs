@@ -220,6 +220,16 @@ impl Pipeline {
     /// The MIDI reading options.
     #[cfg(feature = "midi")]
     /// The longest input accepted ([`PipelineBuilder::max_duration_s`]), if any.
+    /// Whether the bowing model decodes stroke directions from the audio (its weights
+    /// carry a direction decoder).
+    pub(crate) fn hears_directions(&self) -> Result<bool> {
+        Ok(self
+            .models
+            .bowing(self.bowing_weights.as_deref(), self.bowing_network)?
+            .direction_decoder()
+            .is_some())
+    }
+
     pub(crate) fn max_duration(&self) -> Option<f64> {
         self.max_duration_s.map(f64::from)
     }
@@ -305,8 +315,7 @@ impl Pipeline {
             .zip(places)
             .map(|(n, f)| Note { fingering: f, ..*n })
             .collect();
-        let bow_directions =
-            performance::bow_directions(&bow_changes_s, &analyzed_notes, &beats.downbeats_s);
+        let bow_directions = bowed.directions(&bow_changes_s, &analyzed_notes, &beats.downbeats_s);
         let bow_strokes = crate::strokes::strokes_with_strings(
             &bowed,
             &bow_changes_s,

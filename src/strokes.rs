@@ -1,7 +1,9 @@
-//! The strokes of an analysis: one per bow change, with the direction of the bowing rules
-//! ([`performance::bow_directions`]: alternation, a pickup up-bow, a retake to down-bow
-//! after a rest) and the string the stroke network heard (the string of the stroke's first
-//! note by the fingering when the model gives no strings, as the CNN does).
+//! The strokes of an analysis: one per bow change, with its direction (the bowing rules,
+//! [`performance::bow_directions`]: alternation, a pickup up-bow, a retake to down-bow
+//! after a rest, decoded together with the stroke network's down-bow output when its weights
+//! carry a direction decoder: `StrokeAnalysis::directions`) and the string the stroke
+//! network heard (the string of the stroke's first note by the fingering when the model
+//! gives no strings, as the CNN does).
 
 use bowing_net::stroke::StrokeAnalysis;
 use performance::{strokes_of, BowDirection, BowStroke, Note};
@@ -17,6 +19,20 @@ pub(crate) fn strokes_with_strings(
     let mut strokes = strokes_of(bow_changes_s, directions, notes);
     bowed.assign_strings(&mut strokes);
     strokes
+}
+
+/// Replaces the direction of each change that starts one of the chunks' own strokes
+/// (`heard`, moved to file time) by that stroke's direction.
+pub(crate) fn keep_heard_directions(
+    bow_changes_s: &[f64],
+    directions: &mut [BowDirection],
+    heard: &[BowStroke],
+) {
+    for (c, d) in bow_changes_s.iter().zip(directions.iter_mut()) {
+        if let Some(h) = heard.iter().find(|h| (h.start_s - c).abs() < 1e-6) {
+            *d = h.direction;
+        }
+    }
 }
 
 /// Strokes over a whole file from its changes and directions, with the strings of the
@@ -53,7 +69,9 @@ mod tests {
             frames: FrameOutputs {
                 change: vec![0.0; 60],
                 string: vec![[0.0, 0.0, 0.9, 0.1]; 60],
+                down: Vec::new(),
             },
+            direction_decoder: None,
         };
         let s = strokes_with_strings(&bowed, &[0.0, 1.0], &dirs, &notes);
         assert_eq!(s.len(), 2);

@@ -29,6 +29,14 @@ pub enum BowingModel {
 }
 
 impl BowingModel {
+    /// The stroke network's direction decoder, when the model has one (never the CNN's).
+    pub fn direction_decoder(&self) -> Option<crate::stroke::direction::DirectionDecoder> {
+        match self {
+            Self::Cnn(_) => None,
+            Self::Strokes(d) | Self::Ensemble(_, d) => d.direction_decoder(),
+        }
+    }
+
     /// The shipped default: the ensemble of the CNN and the stroke network (the stroke
     /// network alone if its weights carry no ensemble decoder).
     pub fn pretrained() -> Result<Self> {
@@ -113,6 +121,7 @@ impl BowingModel {
                         change: probs,
                         ..FrameOutputs::default()
                     },
+                    direction_decoder: None,
                 })
             }
         }

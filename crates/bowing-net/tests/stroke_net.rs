@@ -144,3 +144,33 @@ fn weights_of_the_wrong_shape_or_kind_are_refused_with_names() {
     let e = BowingModel::load(&strokes).unwrap_err().to_string();
     assert!(e.contains("s.safetensors"), "{e}");
 }
+
+#[test]
+fn the_direction_decoder_travels_with_the_weights_and_uses_the_down_output() {
+    use bowing_net::stroke::direction::DirectionDecoder;
+    use performance::BowDirection::{Down, Up};
+    use performance::Note;
+    let mut d = detector();
+    let decoder = DirectionDecoder {
+        net_weight: 2.0,
+        rule_weight: 0.25,
+        stay_probability: 0.1,
+    };
+    d.set_direction_decoder(Some(decoder));
+    let back = StrokeDetector::from_bytes(&d.to_bytes().unwrap(), Path::new("w")).unwrap();
+    assert_eq!(back.direction_decoder(), Some(decoder));
+    // Two one-second strokes; the network hears the first as an up-bow, the second as a
+    // down-bow, against the rules' down-up.
+    let notes = [Note::new(0.0, 1.0, 67), Note::new(1.0, 2.0, 69)];
+    let mut found = back
+        .analyze_mel(Array2::from_elem((60, 128), -100.0f32).view())
+        .unwrap();
+    found.frames.down = [vec![0.05f32; 30], vec![0.95f32; 30]].concat();
+    assert_eq!(found.directions(&[0.0, 1.0], &notes, &[]), vec![Up, Down]);
+    // Without a decoder, or without the down output, the rules decide.
+    found.direction_decoder = None;
+    assert_eq!(found.directions(&[0.0, 1.0], &notes, &[]), vec![Down, Up]);
+    found.direction_decoder = Some(decoder);
+    found.frames.down.clear();
+    assert_eq!(found.directions(&[0.0, 1.0], &notes, &[]), vec![Down, Up]);
+}

@@ -8,10 +8,9 @@
 //! 3. Strings: the string of a span is the one with the highest summed probability over
 //!    its frames.
 //!
-//! Stroke *directions* are not decoded here: the network's direction output stays at
-//! chance on validation data (the audio of a down-bow and an up-bow differs too little),
-//! so the analysis takes directions from the bowing rules over the detected changes
-//! (`performance::bow_directions`).
+//! Stroke *directions* are decoded by [`super::direction`]: the bowing rules over the
+//! detected changes (`performance::bow_directions`) together with the network's down-bow
+//! output, when the weights carry a direction decoder.
 
 use fingering::ViolinString;
 

@@ -9,9 +9,10 @@ use ndarray::ArrayView2;
 use net_core::file::{self, TensorFile};
 use net_core::nn::DropoutRng;
 use net_core::vars;
-use performance::BowStroke;
+use performance::{BowDirection, BowStroke};
 
 use super::decode::{changes_inside, played_stretches, string_between};
+use super::direction::{mean_log_odds, DirectionDecoder};
 use super::input::{stroke_input, tonal_prominence_db};
 use super::model::{StrokeConfig, StrokeNet, DTYPE};
 use super::outputs::FrameOutputs;
@@ -25,6 +26,8 @@ pub const STROKE_FORMAT_NAME: &str = "violin-skeleton/bowing-stroke-net";
 pub const STROKE_FORMAT_VERSION: u32 = 1;
 /// Metadata key of the ensemble's decoder (JSON), when the file has one.
 pub const KEY_ENSEMBLE_DECODER: &str = "ensemble_decoder";
+/// Metadata key of the direction decoder (JSON), when the file has one.
+pub const KEY_DIRECTION_DECODER: &str = "direction_decoder";
 
 /// What the bowing model finds in a recording.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -33,8 +36,10 @@ pub struct StrokeAnalysis {
     pub bow_changes_s: Vec<f64>,
     /// The played stretches `(start_s, end_s)` (empty from the CNN, which does not tell).
     pub played_s: Vec<(f64, f64)>,
-    /// The per-frame probabilities (30 fps); `string` is empty from the CNN.
+    /// The per-frame probabilities (30 fps); `string` and `down` are empty from the CNN.
     pub frames: FrameOutputs,
+    /// How directions are decoded from `frames.down` (`None`: by the bowing rules alone).
+    pub direction_decoder: Option<DirectionDecoder>,
 }
 
 impl StrokeAnalysis {
@@ -47,6 +52,31 @@ impl StrokeAnalysis {
             frame(from_s),
             frame(to_s).max(frame(from_s) + 1),
         )
+    }
+
+    /// The direction of the stroke each of `bow_changes_s` starts: the bowing rules
+    /// (`performance::bow_directions` over `notes` and `downbeats_s`), decoded together with
+    /// the network's down-bow output when the weights carry a direction decoder
+    /// ([`crate::stroke::direction`]).
+    pub fn directions(
+        &self,
+        bow_changes_s: &[f64],
+        notes: &[performance::Note],
+        downbeats_s: &[f64],
+    ) -> Vec<BowDirection> {
+        let rules = performance::bow_directions(bow_changes_s, notes, downbeats_s);
+        let Some(decoder) = self.direction_decoder else {
+            return rules;
+        };
+        if self.frames.down.is_empty() {
+            return rules;
+        }
+        let frame = |t: f64| (t * FPS).round().max(0.0) as usize;
+        let evidence: Vec<f32> = performance::strokes_of(bow_changes_s, &rules, notes)
+            .iter()
+            .map(|s| mean_log_odds(&self.frames.down, frame(s.start_s), frame(s.end_s)))
+            .collect();
+        decoder.decode(&evidence, &rules)
     }
 
     /// Sets each stroke's string from the network where it has string output.
@@ -68,6 +98,7 @@ pub struct StrokeDetector {
     net: StrokeNet,
     decoder: Decoder,
     ensemble_decoder: Option<Decoder>,
+    direction_decoder: Option<DirectionDecoder>,
     tensors: Vec<(String, Tensor)>,
     training: String,
 }
@@ -112,8 +143,13 @@ impl StrokeDetector {
             Some(_) => Some(file.meta_json(KEY_ENSEMBLE_DECODER, path)?),
             None => None,
         };
+        let direction_decoder = match file.metadata.get(KEY_DIRECTION_DECODER) {
+            Some(_) => Some(file.meta_json(KEY_DIRECTION_DECODER, path)?),
+            None => None,
+        };
         let mut d = Self::from_tensors(&cfg, tensors, decoder, training)?;
         d.ensemble_decoder = ensemble_decoder;
+        d.direction_decoder = direction_decoder;
         Ok(d)
     }
 
@@ -131,9 +167,15 @@ impl StrokeDetector {
             net,
             decoder,
             ensemble_decoder: None,
+            direction_decoder: None,
             tensors,
             training,
         })
+    }
+
+    /// The named tensors of the network (as in its weights file).
+    pub fn named_tensors(&self) -> &[(String, Tensor)] {
+        &self.tensors
     }
 
     /// A detector holding a copy of the variables of `varmap` (e.g. during training).
@@ -165,6 +207,9 @@ impl StrokeDetector {
         if let Some(d) = &self.ensemble_decoder {
             entries.push((KEY_ENSEMBLE_DECODER, file::to_json(d)?));
         }
+        if let Some(d) = &self.direction_decoder {
+            entries.push((KEY_DIRECTION_DECODER, file::to_json(d)?));
+        }
         let meta = file::metadata(STROKE_FORMAT_NAME, STROKE_FORMAT_VERSION, &entries);
         Ok(file::encode(&self.tensors, meta)?)
     }
@@ -193,6 +238,16 @@ impl StrokeDetector {
     /// Sets the ensemble's decoder (stored with the weights).
     pub fn set_ensemble_decoder(&mut self, decoder: Option<Decoder>) {
         self.ensemble_decoder = decoder;
+    }
+
+    /// The decoder of stroke directions, when one was tuned on validation data.
+    pub fn direction_decoder(&self) -> Option<DirectionDecoder> {
+        self.direction_decoder
+    }
+
+    /// Sets the direction decoder (stored with the weights).
+    pub fn set_direction_decoder(&mut self, decoder: Option<DirectionDecoder>) {
+        self.direction_decoder = decoder;
     }
 
     /// How the weights were trained (JSON written by the trainer; may be empty).
@@ -244,6 +299,7 @@ impl StrokeDetector {
                 .map(|&(a, b)| (a as f64 / FPS, b as f64 / FPS))
                 .collect(),
             frames,
+            direction_decoder: self.direction_decoder,
         })
     }
 

@@ -6,11 +6,14 @@
 //! * [`StrokeNet`] (candle model style: [`StrokeConfig`], `StrokeNet::new(cfg, vb, rng)`,
 //!   `forward_t`);
 //! * [`decode`]: played stretches (level and tonality), bow changes inside them, the
-//!   string of a span; stroke directions are left to the bowing rules (see [`decode`]);
+//!   string of a span;
+//! * [`direction`]: stroke directions from the down-bow output and the bowing rules, one
+//!   consistent sequence ([`StrokeAnalysis::directions`]);
 //! * [`StrokeDetector`]: weights + normalisation + decoder in one safetensors file.
 
 pub mod decode;
 mod detector;
+pub mod direction;
 mod input;
 #[cfg(feature = "train")]
 pub mod metrics;

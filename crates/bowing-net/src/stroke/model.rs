@@ -152,6 +152,7 @@ impl StrokeNet {
         Ok(super::outputs::FrameOutputs {
             change: sig(&logits.change)?,
             string: strings,
+            down: sig(&logits.down)?,
         })
     }
 }

@@ -7,4 +7,6 @@ pub struct FrameOutputs {
     pub change: Vec<f32>,
     /// Probabilities of the four strings (G, D, A, E).
     pub string: Vec<[f32; 4]>,
+    /// Probability that the bow moves down (frog to tip) at the frame (empty from the CNN).
+    pub down: Vec<f32>,
 }

@@ -1,0 +1,168 @@
+//! Stroke directions from the network's down-bow output and the bowing rules, decoded as
+//! one consistent sequence.
+//!
+//! A two-state (down, up) hidden Markov model over the strokes: the direction flips at a
+//! bow change, except with probability [`DirectionDecoder::stay_probability`] (a missed
+//! change between two detected strokes, or a retake); each stroke's evidence is the
+//! network's mean down-bow log-odds over the stroke's frames, weighted by
+//! [`DirectionDecoder::net_weight`], plus [`DirectionDecoder::rule_weight`] for the
+//! direction the bowing rules give it (`performance::bow_directions`: a pickup up-bow, a
+//! retake to down-bow after a rest). Viterbi finds the most probable sequence, so one
+//! clear long stroke sets the direction of the short ones around it, and a missed change
+//! does not flip the rest of the phrase. The weights are chosen on validation data and
+//! stored with the network's weights.
+
+use performance::BowDirection;
+use serde::{Deserialize, Serialize};
+
+/// How the direction sequence is decoded (module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct DirectionDecoder {
+    /// Weight of the network's evidence (0: rules only).
+    pub net_weight: f32,
+    /// Log-bonus for the rules' direction.
+    pub rule_weight: f32,
+    /// Probability that a stroke keeps the previous stroke's direction.
+    pub stay_probability: f32,
+}
+
+impl Default for DirectionDecoder {
+    /// The rules alone.
+    fn default() -> Self {
+        DirectionDecoder {
+            net_weight: 0.0,
+            rule_weight: 1.0,
+            stay_probability: 0.05,
+        }
+    }
+}
+
+/// Mean down-bow log-odds of `down` (per-frame probabilities) over frames `[a, b)` (0 for
+/// an empty span or no output).
+pub fn mean_log_odds(down: &[f32], a: usize, b: usize) -> f32 {
+    let span = down.get(a..b.min(down.len())).unwrap_or(&[]);
+    if span.is_empty() {
+        return 0.0;
+    }
+    let sum: f32 = span
+        .iter()
+        .map(|&p| {
+            let p = if p.is_finite() {
+                p.clamp(1e-4, 1.0 - 1e-4)
+            } else {
+                0.5
+            };
+            (p / (1.0 - p)).ln()
+        })
+        .sum();
+    sum / span.len() as f32
+}
+
+fn log_sigmoid(x: f32) -> f32 {
+    -((-x).exp().ln_1p())
+}
+
+impl DirectionDecoder {
+    /// The directions of strokes with mean down-bow log-odds `evidence` (one per stroke,
+    /// [`mean_log_odds`]) and the rules' directions `rules` (same length; extra entries of
+    /// either are ignored).
+    ///
+    /// ```
+    /// use bowing_net::stroke::direction::DirectionDecoder;
+    /// use performance::BowDirection::{Down, Up};
+    /// let d = DirectionDecoder { net_weight: 1.0, rule_weight: 0.5, stay_probability: 0.05 };
+    /// // The rules started on the wrong foot (a missed change); the network clearly hears
+    /// // the first and third strokes as up-bows.
+    /// let dirs = d.decode(&[-3.0, 0.0, -3.0, 0.0], &[Down, Up, Down, Up]);
+    /// assert_eq!(dirs, vec![Up, Down, Up, Down]);
+    /// ```
+    pub fn decode(&self, evidence: &[f32], rules: &[BowDirection]) -> Vec<BowDirection> {
+        let n = evidence.len().min(rules.len());
+        if n == 0 {
+            return Vec::new();
+        }
+        let stay = self.stay_probability.clamp(1e-6, 1.0 - 1e-6);
+        let (log_stay, log_flip) = (stay.ln(), (1.0 - stay).ln());
+        let emit = |k: usize, dir: BowDirection| -> f32 {
+            let odds = if evidence[k].is_finite() {
+                evidence[k]
+            } else {
+                0.0
+            };
+            let net = match dir {
+                BowDirection::Down => log_sigmoid(odds),
+                BowDirection::Up => log_sigmoid(-odds),
+            };
+            self.net_weight * net
+                + if rules[k] == dir {
+                    self.rule_weight
+                } else {
+                    0.0
+                }
+        };
+        const STATES: [BowDirection; 2] = [BowDirection::Down, BowDirection::Up];
+        let mut score = [emit(0, STATES[0]), emit(0, STATES[1])];
+        let mut back: Vec<[u8; 2]> = Vec::with_capacity(n);
+        back.push([0, 1]);
+        for k in 1..n {
+            let mut next = [0.0f32; 2];
+            let mut from = [0u8; 2];
+            for (s, state) in STATES.iter().enumerate() {
+                let via_same = score[s] + log_stay;
+                let via_other = score[1 - s] + log_flip;
+                (next[s], from[s]) = if via_same >= via_other {
+                    (via_same, s as u8)
+                } else {
+                    (via_other, (1 - s) as u8)
+                };
+                next[s] += emit(k, *state);
+            }
+            score = next;
+            back.push(from);
+        }
+        let mut s = usize::from(score[1] > score[0]);
+        let mut out = vec![BowDirection::Down; n];
+        for k in (0..n).rev() {
+            out[k] = STATES[s];
+            s = usize::from(back[k][s]);
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use BowDirection::{Down, Up};
+
+    #[test]
+    fn rules_alone_are_kept_and_evidence_corrects_a_wrong_start() {
+        let rules = [Down, Up, Down, Down, Up];
+        let alone = DirectionDecoder {
+            net_weight: 0.0,
+            rule_weight: 5.0,
+            stay_probability: 0.05,
+        };
+        assert_eq!(alone.decode(&[0.0; 5], &rules), rules.to_vec());
+        let heard = DirectionDecoder {
+            net_weight: 1.0,
+            rule_weight: 0.2,
+            stay_probability: 0.05,
+        };
+        // Strong up-bow evidence on the first two strokes' alternation.
+        let dirs = heard.decode(&[-4.0, 4.0, -4.0, 0.0, 0.0], &[Down, Up, Down, Up, Down]);
+        assert_eq!(dirs, vec![Up, Down, Up, Down, Up]);
+        assert!(heard.decode(&[], &[]).is_empty());
+        assert_eq!(heard.decode(&[f32::NAN], &[Up]), vec![Up]);
+    }
+
+    #[test]
+    fn mean_log_odds_of_spans() {
+        let down = [0.9f32, 0.9, 0.1, 0.1];
+        assert!(mean_log_odds(&down, 0, 2) > 2.0);
+        assert!(mean_log_odds(&down, 2, 4) < -2.0);
+        assert_eq!(mean_log_odds(&down, 3, 3), 0.0);
+        assert_eq!(mean_log_odds(&down, 10, 20), 0.0);
+        assert!(mean_log_odds(&[f32::NAN, 1.0], 0, 2).is_finite());
+    }
+}
