@@ -5,6 +5,7 @@
 //!
 //! ```text
 //! cargo run --release -p violin-train --example train_strokes -- CORPUS OUT.safetensors [EPOCHS]
+//! cargo run --release -p violin-train --example train_strokes -- CORPUS OUT.safetensors EPOCHS --init W.safetensors --lr 5e-4 --seed 2
 //! cargo run --release -p violin-train --example train_strokes -- CORPUS --eval W.safetensors [--write-ensemble]
 //! ```
 //!
@@ -20,8 +21,11 @@ use bowing_net::metrics::{match_events, Counts};
 use bowing_net::stroke::metrics::{score_recordings, StrokeScores};
 use bowing_net::stroke::train::{train_strokes, StrokeTrainConfig};
 use bowing_net::stroke::StrokeDetector;
-use bowing_net::BowChangeDetector;
+use bowing_net::{BowChangeDetector, BowingModel};
 use violin_train::bowing_data::{load_dataset, read_manifest};
+use violin_train::stroke_directions::{
+    direction_accuracy, direction_case, pooled_accuracy, tune_direction_decoder,
+};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -44,9 +48,22 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         PathBuf::from(args.get(2).ok_or("--eval needs a weights file")?)
     } else {
         let out = PathBuf::from(second);
+        let flag = |name: &str| {
+            args.iter()
+                .position(|a| a == name)
+                .and_then(|i| args.get(i + 1))
+                .cloned()
+        };
+        let defaults = StrokeTrainConfig::default();
         let cfg = StrokeTrainConfig {
-            epochs: args.get(2).map_or(Ok(20), |e| e.parse())?,
-            ..StrokeTrainConfig::default()
+            epochs: args
+                .get(2)
+                .filter(|a| !a.starts_with("--"))
+                .map_or(Ok(20), |e| e.parse())?,
+            init_from: flag("--init").map(PathBuf::from),
+            learning_rate: flag("--lr").map_or(Ok(defaults.learning_rate), |v| v.parse())?,
+            seed: flag("--seed").map_or(Ok(defaults.seed), |v| v.parse())?,
+            ..defaults
         };
         let report = train_strokes(&data, &cfg, &out, &mut |p| {
             if let Some(v) = &p.val {
@@ -138,6 +155,32 @@ fn report(
         s.set_ensemble_decoder(Some(ensemble_decoder));
         s
     };
+    // The analysis's model (the CNN and this network averaged) and its direction decoder,
+    // chosen on the validation items.
+    let model = BowingModel::Ensemble(
+        Box::new(BowChangeDetector::pretrained()?),
+        StrokeDetector::load(weights).map(|mut s| {
+            s.set_ensemble_decoder(Some(ensemble_decoder));
+            s
+        })?,
+    );
+    let mut val_cases = Vec::new();
+    for r in val {
+        let audio = dsp_mel::load_audio(corpus::layout::item_audio(&corpus.join(&r.name)))?;
+        val_cases.push(direction_case(r, &audio, &model, &pipeline)?);
+    }
+    let (direction_decoder, direction_val) = tune_direction_decoder(&val_cases);
+    eprintln!(
+        "direction decoder {direction_decoder:?}: validation accuracy {direction_val:.3} (rules alone {:.3})",
+        pooled_accuracy(&val_cases, None)
+    );
+    if write_ensemble {
+        let mut s = StrokeDetector::load(weights)?;
+        s.set_ensemble_decoder(Some(ensemble_decoder));
+        s.set_direction_decoder(direction_decoder);
+        s.save(weights)?;
+        eprintln!("wrote the direction decoder into {}", weights.display());
+    }
     let score = |recs: &[&Recording]| -> Result<Row, Box<dyn std::error::Error>> {
         let owned: Vec<Recording> = recs.iter().map(|r| (*r).clone()).collect();
         let (s, _) = score_recordings(&strokes, &owned, Some(strokes.decoder()))?;
@@ -160,11 +203,16 @@ fn report(
                 .collect();
             row.ensemble.add(&match_events(&frames, &r.changes, 2));
             extra_scores(corpus, r, &strokes, &pipeline, &mut row)?;
+            let audio = dsp_mel::load_audio(corpus::layout::item_audio(&corpus.join(&r.name)))?;
+            let case = direction_case(r, &audio, &model, &pipeline)?;
+            let (right, total) = direction_accuracy(&case, direction_decoder);
+            row.direction_net.0 += right;
+            row.direction_net.1 += total;
         }
         Ok(row)
     };
-    println!("| set | items | CNN change F1 | stroke-net change F1 | CNN+stroke-net change F1 | direction by the rules (tracked downbeats) | direction by the rules (true downbeats) | string: network | string: fingering planner |");
-    println!("|---|---|---|---|---|---|---|---|---|");
+    println!("| set | items | CNN change F1 | stroke-net change F1 | CNN+stroke-net change F1 | direction by the rules (tracked downbeats) | direction by the rules (true downbeats) | direction: network + rules (the analysis) | string: network | string: fingering planner |");
+    println!("|---|---|---|---|---|---|---|---|---|---|");
     for set in ["both", "repertoire", "violin", "none"] {
         let Some(recs) = by_set.get(set) else {
             continue;
@@ -183,8 +231,8 @@ fn report(
         );
     }
     println!("\nheld-out violins (held-out violin + both sets), per source:\n");
-    println!("| violin | items | CNN change F1 | stroke-net change F1 | CNN+stroke-net change F1 | direction by the rules (tracked downbeats) | direction by the rules (true downbeats) | string: network | string: fingering planner |");
-    println!("|---|---|---|---|---|---|---|---|---|");
+    println!("| violin | items | CNN change F1 | stroke-net change F1 | CNN+stroke-net change F1 | direction by the rules (tracked downbeats) | direction by the rules (true downbeats) | direction: network + rules (the analysis) | string: network | string: fingering planner |");
+    println!("|---|---|---|---|---|---|---|---|---|---|");
     for (violin, recs) in &by_violin {
         let row = score(recs)?;
         println!("| {violin} | {} | {} |", recs.len(), row.cells());
@@ -199,6 +247,7 @@ struct Row {
     strokes: StrokeScores,
     direction_tracked: (usize, usize),
     direction_true: (usize, usize),
+    direction_net: (usize, usize),
     planner_strings: (usize, usize),
 }
 
@@ -206,12 +255,13 @@ impl Row {
     fn cells(&self) -> String {
         let r = |(a, b): (usize, usize)| a as f64 / b.max(1) as f64;
         format!(
-            "{:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3}",
+            "{:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3}",
             self.cnn.f1(),
             self.strokes.change_f1(),
             self.ensemble.f1(),
             r(self.direction_tracked),
             r(self.direction_true),
+            r(self.direction_net),
             self.strokes.string_accuracy(),
             r(self.planner_strings)
         )

@@ -3,6 +3,7 @@
 
 mod datasets;
 mod scores;
+mod strokes;
 
 use std::path::Path;
 use std::time::Instant;
@@ -11,6 +12,7 @@ use skeleton::{Joint, Motion};
 
 pub use datasets::{find_recordings, LabelledRecording, Layout, References, SplitChoice};
 pub use scores::{EvaluationReport, EventCounts, RecordingScores, ScoreSummary};
+pub use strokes::{direction_tally, string_tally, Tally};
 
 use crate::error::Result;
 use violin_skeleton::{Method, Pipeline};
@@ -75,6 +77,8 @@ pub fn evaluate_recording(pipeline: &Pipeline, rec: &LabelledRecording) -> Resul
                 .fold(0.0, f32::max),
         ),
         bowing_attacks_3f: None,
+        stroke_directions: None,
+        sounding_strings: None,
         bow_range_violations: bow_range,
         bow_string_contact: contact.0,
         fingertip_string_contact: contact.1,
@@ -102,6 +106,12 @@ pub fn evaluate_recording(pipeline: &Pipeline, rec: &LabelledRecording) -> Resul
             let (t, e) = (after_start(truth), after_start(&a.bow_changes_s));
             s.bow_changes_2f = Some(EventCounts::of(&t, &e, BOW_TOLERANCE_2F_S));
             s.bow_changes_3f = Some(EventCounts::of(&t, &e, BOW_TOLERANCE_3F_S));
+        }
+        if let Some(truth) = &refs.strokes {
+            s.stroke_directions = Some(direction_tally(truth, &a.bow_strokes));
+        }
+        if let Some(notes) = &refs.note_strings {
+            s.sounding_strings = Some(string_tally(notes, &a.bow_strokes));
         }
         if let Some(f0) = &refs.f0_hz_at {
             let (reference, estimate): (Vec<f32>, Vec<f32>) =

@@ -34,5 +34,6 @@ mod error;
 pub mod evaluate;
 pub mod feature_cache;
 pub mod gru_data;
+pub mod stroke_directions;
 
 pub use error::{Result, TrainError};

@@ -101,6 +101,10 @@ pub struct References {
     pub beats_s: Option<Vec<f64>>,
     /// Downbeats in seconds.
     pub downbeats_s: Option<Vec<f64>>,
+    /// Labelled bow strokes (`strokes.tsv`).
+    pub strokes: Option<Vec<performance::BowStroke>>,
+    /// Sounding notes with their string: onset, offset (seconds), string 1–4 (0 unknown).
+    pub note_strings: Option<Vec<(f64, f64, u8)>>,
     /// Beats per bar and tempo (bpm) at the notated beat (`labels.json`).
     pub notated_meter: (Option<u8>, Option<f64>),
     /// The reference skeleton.
@@ -237,7 +241,19 @@ impl LabelledRecording {
                     segments.push((n[0], n[1], hz as f32));
                 }
                 let motion_path = dir.join("motion.json");
+                let strokes_path = dir.join("strokes.tsv");
                 Ok(References {
+                    strokes: if strokes_path.is_file() {
+                        Some(crate::bowing_data::read_strokes(&strokes_path)?)
+                    } else {
+                        None
+                    },
+                    note_strings: Some(
+                        notes
+                            .iter()
+                            .map(|n| (n[0], n[1], n.get(3).map_or(0, |&s| s as u8)))
+                            .collect(),
+                    ),
                     notated_meter: crate::beat_data::notated_meter(dir),
                     bow_changes_s: Some(first_column(&dir.join("bowchanges.txt"))?),
                     onsets_s: Some(notes.iter().map(|n| n[0]).collect()),
@@ -280,6 +296,8 @@ impl LabelledRecording {
                     onsets_s,
                     beats_s: None,
                     downbeats_s: None,
+                    strokes: None,
+                    note_strings: None,
                     notated_meter: (None, None),
                     motion: Some(pose.motion),
                     same_image_space: false,

@@ -130,6 +130,12 @@ pub struct RecordingScores {
     /// Mean |acceleration| of the 42 hand points, px/frame² (when the motion has hands).
     #[serde(default)]
     pub hand_jitter_px: Option<f64>,
+    /// Labelled strokes whose direction the analysis gets right (corpus only).
+    #[serde(default)]
+    pub stroke_directions: Option<super::Tally>,
+    /// Sounding frames whose string the analysis's strokes get right (corpus only).
+    #[serde(default)]
+    pub sounding_strings: Option<super::Tally>,
     /// Seconds the pipeline took on this recording (analysis and synthesis).
     pub seconds: f64,
 }
@@ -192,6 +198,12 @@ pub struct ScoreSummary {
     pub hand_jitter_px: Option<f64>,
     /// Bowing-attack F1 (±3 frames) of the skeleton against the bow changes.
     pub bowing_attack_f1: Option<f64>,
+    /// Share of labelled strokes with the right direction.
+    #[serde(default)]
+    pub stroke_direction_accuracy: Option<f64>,
+    /// Share of sounding frames with the right string.
+    #[serde(default)]
+    pub string_accuracy: Option<f64>,
     /// Share of frames with the bow out of range.
     pub bow_range_violations: Option<f64>,
     /// Beat alignment score.
@@ -209,6 +221,17 @@ fn pooled_counts(
         total.get_or_insert_with(EventCounts::default).add(&c);
     }
     total
+}
+
+fn pooled_tally(
+    rows: &[&RecordingScores],
+    get: impl Fn(&RecordingScores) -> Option<super::Tally>,
+) -> Option<f64> {
+    let mut total: Option<super::Tally> = None;
+    for t in rows.iter().filter_map(|r| get(r)) {
+        total.get_or_insert_with(super::Tally::default).add(&t);
+    }
+    total.map(|t| t.share())
 }
 
 /// The share of `rows` for which `get` says yes, among those where it says anything.
@@ -263,6 +286,8 @@ impl ScoreSummary {
             fingertip_string_contact: weighted_mean(rows, |r| r.fingertip_string_contact),
             hand_jitter_px: weighted_mean(rows, |r| r.hand_jitter_px),
             bowing_attack_f1: pooled_counts(rows, |r| r.bowing_attacks_3f).map(|c| c.f1()),
+            stroke_direction_accuracy: pooled_tally(rows, |r| r.stroke_directions),
+            string_accuracy: pooled_tally(rows, |r| r.sounding_strings),
             bow_range_violations: weighted_mean(rows, |r| r.bow_range_violations),
             beat_alignment: weighted_mean(rows, |r| r.beat_alignment),
             times_real_time: (seconds > 0.0).then(|| duration_s / seconds),
@@ -338,13 +363,15 @@ impl EvaluationReport {
             fn(&ScoreSummary) -> Option<f64>,
             Option<usize>,
         );
-        let rows: [Row; 22] = [
+        let rows: [Row; 24] = [
             ("recordings", |s| Some(s.recordings as f64), Some(0)),
             ("minutes", |s| Some(s.duration_s / 60.0), Some(1)),
             ("bow-change P ±2 fr", |s| s.bow_change_precision, Some(3)),
             ("bow-change R ±2 fr", |s| s.bow_change_recall, Some(3)),
             ("bow-change F1 ±2 fr", |s| s.bow_change_f1, Some(3)),
             ("bow-change F1 ±3 fr", |s| s.bow_change_f1_3f, Some(3)),
+            ("stroke direction", |s| s.stroke_direction_accuracy, Some(3)),
+            ("string, sounding frames", |s| s.string_accuracy, Some(3)),
             ("raw pitch accuracy", |s| s.raw_pitch_accuracy, Some(3)),
             ("note-onset F1 ±50 ms", |s| s.onset_f1, Some(3)),
             ("beat F ±70 ms", |s| s.beat_f, Some(3)),

@@ -1,0 +1,111 @@
+//! Stroke directions on labelled corpus items: what the analysis needs to decode them (bow
+//! changes, notes, downbeats and the network's down-bow output), their accuracy against the
+//! labelled strokes, and the choice of the direction decoder on validation items.
+//!
+//! Accuracy is counted per labelled stroke: the decoded stroke sounding at the labelled
+//! stroke's midpoint must have its direction.
+
+use bowing_net::data::Recording;
+use bowing_net::stroke::direction::DirectionDecoder;
+use bowing_net::BowingModel;
+use performance::{strokes_of, BowStroke, Note};
+
+use crate::Result;
+
+/// One labelled item, analysed once: everything the direction decoding reads.
+#[derive(Debug, Clone)]
+pub struct DirectionCase {
+    /// The model's bow changes, seconds.
+    pub bow_changes_s: Vec<f64>,
+    /// The analysis's notes.
+    pub notes: Vec<Note>,
+    /// The analysis's downbeats, seconds.
+    pub downbeats_s: Vec<f64>,
+    /// The model's analysis (down-bow probabilities per frame included).
+    pub bowed: bowing_net::stroke::StrokeAnalysis,
+    /// The labelled strokes.
+    pub truth: Vec<BowStroke>,
+}
+
+/// Analyses item `r` (audio `audio`) with `model` for the changes and the down-bow output
+/// and with `pipeline` for notes and downbeats.
+pub fn direction_case(
+    r: &Recording,
+    audio: &dsp_mel::Audio,
+    model: &BowingModel,
+    pipeline: &violin_skeleton::Pipeline,
+) -> Result<DirectionCase> {
+    let analysis = pipeline
+        .analyze(audio)
+        .map_err(|e| crate::TrainError::Dataset {
+            path: r.name.clone().into(),
+            reason: e.to_string(),
+        })?;
+    let bowed = model.analyze_mel(r.mel_db.view())?;
+    Ok(DirectionCase {
+        bow_changes_s: bowed.bow_changes_s.clone(),
+        notes: analysis.notes,
+        downbeats_s: analysis.downbeats_s,
+        bowed,
+        truth: r.strokes.clone(),
+    })
+}
+
+/// (labelled strokes whose direction the decoding gets right, labelled strokes) with
+/// `decoder` (`None`: the bowing rules alone).
+pub fn direction_accuracy(
+    case: &DirectionCase,
+    decoder: Option<DirectionDecoder>,
+) -> (usize, usize) {
+    let mut bowed = case.bowed.clone();
+    bowed.direction_decoder = decoder;
+    let dirs = bowed.directions(&case.bow_changes_s, &case.notes, &case.downbeats_s);
+    let predicted = strokes_of(&case.bow_changes_s, &dirs, &case.notes);
+    let mut right = 0;
+    for s in &case.truth {
+        let mid = 0.5 * (s.start_s + s.end_s);
+        let i = predicted.partition_point(|p| p.start_s <= mid);
+        if i > 0 && predicted[i - 1].direction == s.direction {
+            right += 1;
+        }
+    }
+    (right, case.truth.len())
+}
+
+/// Pooled accuracy over `cases`.
+pub fn pooled_accuracy(cases: &[DirectionCase], decoder: Option<DirectionDecoder>) -> f64 {
+    let (mut right, mut total) = (0, 0);
+    for c in cases {
+        let (r, t) = direction_accuracy(c, decoder);
+        right += r;
+        total += t;
+    }
+    if total == 0 {
+        0.0
+    } else {
+        right as f64 / total as f64
+    }
+}
+
+/// The decoder with the best pooled accuracy on `cases` (validation items only) over a
+/// grid of network weights, rule weights and stay probabilities, and its accuracy; the
+/// rules alone (`None`) when nothing beats them.
+pub fn tune_direction_decoder(cases: &[DirectionCase]) -> (Option<DirectionDecoder>, f64) {
+    let mut best = (None, pooled_accuracy(cases, None));
+    for net_weight in [0.25f32, 0.5, 1.0, 2.0, 4.0] {
+        for rule_weight in [0.0f32, 0.25, 0.5, 1.0, 2.0] {
+            for stay_probability in [0.02f32, 0.05, 0.1, 0.2, 0.35] {
+                let d = DirectionDecoder {
+                    net_weight,
+                    rule_weight,
+                    stay_probability,
+                };
+                let acc = pooled_accuracy(cases, Some(d));
+                if acc > best.1 {
+                    best = (Some(d), acc);
+                }
+            }
+        }
+    }
+    best
+}
