@@ -1,10 +1,25 @@
 //! Training crops: a stretch of a recording resampled in time (tempo augmentation), with
-//! per-frame classes and loss weights (a beat's neighbours count half, Böck et al.).
+//! per-frame classes and loss weights (a beat's neighbours count half, Böck et al.), and
+//! quiet crops (silence or faint stationary noise, no beat anywhere) that teach the network
+//! to stay low where nothing is played.
 
+use ndarray::Array2;
 use net_core::rng::Rng;
 
 use crate::data::Recording;
-use crate::features::FPS;
+use crate::error::Result;
+use crate::features::{frame_features, FPS};
+
+/// The mel level (dB) of digital silence in a quiet crop (what the analysis front end gives
+/// for zeros, and what the pretrained test feeds the network).
+pub const SILENCE_DB: f32 = -100.0;
+/// The range of a noise crop's mean level (dB, the mel's scale): from just above silence
+/// to a faint hiss far below a played note.
+pub const NOISE_LEVEL_DB: (f64, f64) = (-100.0, -50.0);
+/// The largest spectral tilt of a noise crop (dB from the lowest to the highest band).
+pub const NOISE_MAX_TILT_DB: f64 = 30.0;
+/// The range of a noise crop's frame-to-frame standard deviation per band (dB).
+pub const NOISE_SPREAD_DB: (f64, f64) = (0.5, 4.0);
 
 /// Classes and weights of one crop.
 #[derive(Debug, Clone, PartialEq)]
@@ -119,6 +134,73 @@ pub fn random_crop(
     Crop { input, targets }
 }
 
+/// What a quiet crop holds (see [`quiet_mel`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Quiet {
+    /// Every band at [`SILENCE_DB`].
+    Silence,
+    /// Stationary noise: band `b` of `bands` at `level_db − tilt_db·b/(bands−1)` plus an
+    /// independent normal deviation of `spread_db` per frame and band.
+    Noise {
+        /// Mean level of the lowest band (dB).
+        level_db: f32,
+        /// Fall from the lowest to the highest band (dB).
+        tilt_db: f32,
+        /// Standard deviation per frame and band (dB).
+        spread_db: f32,
+    },
+}
+
+impl Quiet {
+    /// Silence or noise with equal chance; a noise's level, tilt and spread are drawn
+    /// uniformly from [`NOISE_LEVEL_DB`], `0..`[`NOISE_MAX_TILT_DB`] and [`NOISE_SPREAD_DB`].
+    pub fn draw(rng: &mut Rng) -> Self {
+        if rng.chance(0.5) {
+            return Quiet::Silence;
+        }
+        Quiet::Noise {
+            level_db: rng.uniform(NOISE_LEVEL_DB.0, NOISE_LEVEL_DB.1) as f32,
+            tilt_db: rng.uniform(0.0, NOISE_MAX_TILT_DB) as f32,
+            spread_db: rng.uniform(NOISE_SPREAD_DB.0, NOISE_SPREAD_DB.1) as f32,
+        }
+    }
+}
+
+/// The mel dB spectrogram `(frames, bands)` of a quiet crop; noise deviations come from
+/// `rng` (silence draws nothing).
+pub fn quiet_mel(kind: Quiet, frames: usize, bands: usize, rng: &mut Rng) -> Array2<f32> {
+    match kind {
+        Quiet::Silence => Array2::from_elem((frames, bands), SILENCE_DB),
+        Quiet::Noise {
+            level_db,
+            tilt_db,
+            spread_db,
+        } => {
+            let step = tilt_db / bands.saturating_sub(1).max(1) as f32;
+            Array2::from_shape_fn((frames, bands), |(_, b)| {
+                level_db - step * b as f32 + spread_db * rng.normal() as f32
+            })
+        }
+    }
+}
+
+/// A quiet crop of `frames` frames over `bands` mel bands: [`quiet_mel`] of a
+/// [`Quiet::draw`] run through [`frame_features`] as a recording of its own (its reference
+/// level floored as any silent recording's), every frame of class 0 (no beat) at weight 1.
+/// Fails only when `frames` or `bands` is 0.
+pub fn quiet_crop(frames: usize, bands: usize, rng: &mut Rng) -> Result<Crop> {
+    let kind = Quiet::draw(rng);
+    let mel = quiet_mel(kind, frames, bands, rng);
+    let input = frame_features(mel.view())?.into_iter().collect();
+    Ok(Crop {
+        input,
+        targets: Targets {
+            classes: vec![0; frames],
+            weights: vec![1.0; frames],
+        },
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -157,5 +239,56 @@ mod tests {
         assert!(c.targets.weights[350] == 0.0 && c.targets.weights[10] == 1.0);
         let c = random_crop(&rec(), 100, (0.8, 1.25), 0.5, &mut rng);
         assert!(c.targets.weights.iter().all(|w| *w > 0.0));
+    }
+
+    #[test]
+    fn quiet_crops_have_no_beats_and_the_intended_mel() {
+        let mut rng = Rng::new(7);
+        let silence = quiet_mel(Quiet::Silence, 20, 8, &mut rng);
+        assert!(silence.iter().all(|v| *v == SILENCE_DB));
+        let kind = Quiet::Noise {
+            level_db: -80.0,
+            tilt_db: 14.0,
+            spread_db: 2.0,
+        };
+        let noise = quiet_mel(kind, 2000, 8, &mut rng);
+        for b in 0..8 {
+            let col = noise.column(b);
+            let mean = col.sum() / 2000.0;
+            let sd = (col.mapv(|v| (v - mean).powi(2)).sum() / 2000.0).sqrt();
+            assert!((mean - (-80.0 - 2.0 * b as f32)).abs() < 0.2, "{b}: {mean}");
+            assert!((sd - 2.0).abs() < 0.15, "{b}: {sd}");
+        }
+        let (mut saw_silence, mut saw_noise) = (false, false);
+        for _ in 0..40 {
+            let mut a = Rng::new(rng.next_u64());
+            let mut b = a.clone();
+            let crop = quiet_crop(50, 8, &mut a).unwrap();
+            assert_eq!(crop.targets.classes, vec![0; 50]);
+            assert_eq!(crop.targets.weights, vec![1.0; 50]);
+            // The input is exactly the features of the drawn mel, and the draw is seeded.
+            let kind = Quiet::draw(&mut b);
+            let mel = quiet_mel(kind, 50, 8, &mut b);
+            let want: Vec<f32> = frame_features(mel.view()).unwrap().into_iter().collect();
+            assert_eq!(crop.input, want);
+            match kind {
+                Quiet::Silence => {
+                    saw_silence = true;
+                    // −100 dB against the −70 dB reference floor: −30 everywhere, no flux.
+                    assert!(crop
+                        .input
+                        .chunks(10)
+                        .all(|r| r[..8].iter().all(|v| *v == -30.0)
+                            && r[8] == 0.0
+                            && r[9] == -3.0));
+                }
+                Quiet::Noise { level_db, .. } => {
+                    saw_noise = true;
+                    assert!((-100.0..-50.0).contains(&level_db));
+                }
+            }
+        }
+        assert!(saw_silence && saw_noise);
+        assert!(quiet_crop(0, 8, &mut rng).is_err());
     }
 }

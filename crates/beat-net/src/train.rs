@@ -4,6 +4,8 @@
 //! initialisation, crops and dropout; after every epoch the validation recordings are run
 //! whole and the weights are kept when the validation score (mean of beat and downbeat F of
 //! plain peak picking, ±70 ms) improves; early stopping after `patience` epochs without.
+//! A share of the crops ([`TrainConfig::quiet_crop_prob`]) is silence or faint noise with no
+//! beat ([`crate::batch::quiet_crop`]), so the network stays low where nothing is played.
 
 use std::path::Path;
 use std::time::Instant;
@@ -14,10 +16,10 @@ use net_core::{set_band_statistics, vars, Adam, AdamConfig, LrSchedule, TrainSta
 use serde::{Deserialize, Serialize};
 
 use crate::activation::{probabilities, BeatActivation};
-use crate::batch::{random_crop, targets};
+use crate::batch::{quiet_crop, random_crop, targets};
 use crate::data::{Recording, Splits};
 use crate::error::{BeatNetError, Result};
-use crate::features::FPS;
+use crate::features::{EXTRA_FEATURES, FPS};
 use crate::model::{BeatNet, Config, CLASSES};
 use net_core::nn::weighted_cross_entropy;
 
@@ -49,6 +51,10 @@ pub struct TrainConfig {
     pub steps_per_epoch: Option<usize>,
     /// Global gradient-norm clip.
     pub clip_norm: Option<f64>,
+    /// Chance that a crop is a quiet one instead of a recording's ([`quiet_crop`]: silence
+    /// or faint stationary noise, every frame "no beat"); 0 draws none and leaves the random
+    /// stream as it was without the setting.
+    pub quiet_crop_prob: f64,
     /// Free text stored with the weights (e.g. the data folder).
     pub data_description: String,
 }
@@ -71,6 +77,7 @@ impl Default for TrainConfig {
             neighbour_weight: 0.5,
             steps_per_epoch: None,
             clip_norm: Some(5.0),
+            quiet_crop_prob: 0.0,
             data_description: String::new(),
         }
     }
@@ -227,6 +234,12 @@ fn check(data: &Splits, cfg: &TrainConfig) -> Result<()> {
             "epochs, batch_crops, the learning rate and the stretch must be positive, crops ≥ 8 frames".into(),
         ));
     }
+    if !(0.0..=1.0).contains(&cfg.quiet_crop_prob) || f <= EXTRA_FEATURES {
+        return Err(BeatNetError::Config(format!(
+            "quiet_crop_prob must be in 0–1 (it is {}) and the network must take mel bands",
+            cfg.quiet_crop_prob
+        )));
+    }
     Ok(())
 }
 
@@ -276,14 +289,18 @@ pub fn train(
             let mut classes = Vec::new();
             let mut weights = Vec::new();
             for _ in 0..cfg.batch_crops {
-                let i = rng.weighted(&lengths).unwrap_or(0);
-                let crop = random_crop(
-                    &data.train[i],
-                    cfg.crop_frames,
-                    cfg.stretch,
-                    cfg.neighbour_weight,
-                    &mut rng,
-                );
+                let crop = if cfg.quiet_crop_prob > 0.0 && rng.chance(cfg.quiet_crop_prob) {
+                    quiet_crop(cfg.crop_frames, f - EXTRA_FEATURES, &mut rng)?
+                } else {
+                    let i = rng.weighted(&lengths).unwrap_or(0);
+                    random_crop(
+                        &data.train[i],
+                        cfg.crop_frames,
+                        cfg.stretch,
+                        cfg.neighbour_weight,
+                        &mut rng,
+                    )
+                };
                 input.extend_from_slice(&crop.input);
                 classes.extend(crop.targets.classes);
                 weights.extend(crop.targets.weights);
@@ -354,5 +371,30 @@ mod tests {
         assert_eq!(f_measure(&[10.0 / FPS, 40.0 / FPS], &peaks), 1.0);
         assert_eq!(f_measure(&[], &peaks), 0.0);
         assert!((f_measure(&[0.0, 10.0 / FPS], &peaks) - 0.5).abs() < 1e-9);
+    }
+
+    #[test]
+    fn configs_without_quiet_crops_still_parse_and_bad_chances_are_refused() {
+        let old: TrainConfig =
+            serde_json::from_str(r#"{"epochs":35,"patience":8,"seed":1}"#).unwrap();
+        assert_eq!(old.quiet_crop_prob, 0.0);
+        let new: TrainConfig = serde_json::from_str(r#"{"quiet_crop_prob":0.08}"#).unwrap();
+        assert_eq!(new.quiet_crop_prob, 0.08);
+        let rec = Recording {
+            name: "r".into(),
+            features: ndarray::Array2::zeros((100, new.model.tcn.in_features)),
+            beats_s: vec![1.0],
+            downbeats_s: vec![],
+        };
+        let data = Splits {
+            train: vec![rec.clone()],
+            val: vec![rec],
+        };
+        assert!(check(&data, &new).is_ok());
+        let bad = TrainConfig {
+            quiet_crop_prob: 1.5,
+            ..new
+        };
+        assert!(matches!(check(&data, &bad), Err(BeatNetError::Config(_))));
     }
 }
