@@ -168,3 +168,43 @@ fn malformed_activations_are_refused() {
     };
     assert!(decode(&[0.1; 10], &[0.1; 10], &bad).is_err());
 }
+
+#[test]
+fn the_bar_length_prior_is_checked_and_can_tip_the_metre() {
+    // 20 s at 30 fps, a beat every 15 frames, every third one a downbeat.
+    let (mut beat, mut down) = (vec![0.02f32; 600], vec![0.01f32; 600]);
+    for k in (0..600).step_by(15) {
+        if (k / 15) % 3 == 0 {
+            down[k] = 0.9
+        } else {
+            beat[k] = 0.9
+        }
+    }
+    let neutral = BarPointerConfig {
+        bar_length_prior_per_frame: Vec::new(),
+        ..Default::default()
+    };
+    assert_eq!(decode(&beat, &down, &neutral).unwrap().beats_per_bar, 3);
+    assert_eq!(
+        decode(&beat, &down, &BarPointerConfig::default())
+            .unwrap()
+            .beats_per_bar,
+        3,
+        "the shipped prior leaves a clear metre alone"
+    );
+    let pushed = BarPointerConfig {
+        bar_length_prior_per_frame: vec![0.0, 0.0, 0.0, 1.0],
+        ..Default::default()
+    };
+    assert_eq!(decode(&beat, &down, &pushed).unwrap().beats_per_bar, 4);
+    let wrong_length = BarPointerConfig {
+        bar_length_prior_per_frame: vec![0.0; 3],
+        ..Default::default()
+    };
+    assert!(decode(&beat, &down, &wrong_length).is_err());
+    let not_finite = BarPointerConfig {
+        bar_length_prior_per_frame: vec![0.0, f64::NAN, 0.0, 0.0],
+        ..Default::default()
+    };
+    assert!(decode(&beat, &down, &not_finite).is_err());
+}
