@@ -5,9 +5,9 @@
 //!   neighbours are positive (the neighbours at half weight, absorbing ±1-frame jitter) and
 //!   positives weigh `change_positive_weight`.
 //! * **Direction**: binary cross-entropy (down = 1) on the frames inside a labelled stroke.
-//!   This head stays at chance on validation data (the audio does not tell down-bows from
-//!   up-bows); it is kept in the loss so the shipped weights can be reproduced, and it is
-//!   not used for inference.
+//!   Its output is decoded with the bowing rules ([`super::direction`]) when the weights
+//!   carry a direction decoder; the shipped ones do not (it did not beat the rules on
+//!   validation data).
 //! * **String**: cross-entropy over G, D, A, E on the frames with a sounding note.
 //! * Adam with warm-up and cosine decay ([`LrSchedule`]); seeded initialisation, crops and
 //!   dropout, so a run is reproducible bit for bit.
