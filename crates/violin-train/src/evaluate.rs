@@ -12,7 +12,7 @@ use skeleton::{Joint, Motion};
 
 pub use datasets::{find_recordings, LabelledRecording, Layout, References, SplitChoice};
 pub use scores::{EvaluationReport, EventCounts, RecordingScores, ScoreSummary};
-pub use strokes::{direction_tally, string_tally, Tally};
+pub use strokes::{direction_tally, string_tally, StrokeReferences, Tally};
 
 use crate::error::Result;
 use violin_skeleton::{Method, Pipeline};
@@ -107,11 +107,11 @@ pub fn evaluate_recording(pipeline: &Pipeline, rec: &LabelledRecording) -> Resul
             s.bow_changes_2f = Some(EventCounts::of(&t, &e, BOW_TOLERANCE_2F_S));
             s.bow_changes_3f = Some(EventCounts::of(&t, &e, BOW_TOLERANCE_3F_S));
         }
-        if let Some(truth) = &refs.strokes {
-            s.stroke_directions = Some(direction_tally(truth, &a.bow_strokes));
-        }
-        if let Some(notes) = &refs.note_strings {
-            s.sounding_strings = Some(string_tally(notes, &a.bow_strokes));
+        if let Some(b) = &refs.bowing {
+            if !b.strokes.is_empty() {
+                s.stroke_directions = Some(direction_tally(&b.strokes, &a.bow_strokes));
+            }
+            s.sounding_strings = Some(string_tally(&b.note_strings, &a.bow_strokes));
         }
         if let Some(f0) = &refs.f0_hz_at {
             let (reference, estimate): (Vec<f32>, Vec<f32>) =

@@ -101,10 +101,8 @@ pub struct References {
     pub beats_s: Option<Vec<f64>>,
     /// Downbeats in seconds.
     pub downbeats_s: Option<Vec<f64>>,
-    /// Labelled bow strokes (`strokes.tsv`).
-    pub strokes: Option<Vec<performance::BowStroke>>,
-    /// Sounding notes with their string: onset, offset (seconds), string 1–4 (0 unknown).
-    pub note_strings: Option<Vec<(f64, f64, u8)>>,
+    /// Labelled strokes and the strings of the sounding notes (corpus only).
+    pub bowing: Option<super::StrokeReferences>,
     /// Beats per bar and tempo (bpm) at the notated beat (`labels.json`).
     pub notated_meter: (Option<u8>, Option<f64>),
     /// The reference skeleton.
@@ -158,10 +156,6 @@ fn read_rows(path: &Path) -> Result<Vec<Vec<f64>>> {
 
 fn first_column(path: &Path) -> Result<Vec<f64>> {
     Ok(read_rows(path)?.into_iter().map(|r| r[0]).collect())
-}
-
-fn midi_to_hz(midi: f64) -> f64 {
-    440.0 * 2f64.powf((midi - 69.0) / 12.0)
 }
 
 /// Frames this close to a labelled note onset or offset are not scored (attacks, releases and
@@ -237,23 +231,12 @@ impl LabelledRecording {
                     if n.len() < 3 {
                         return Err(data_err(&notes_path, "expected onset_s, offset_s, midi"));
                     }
-                    let hz = midi_to_hz(n[2] + tuning_cents / 100.0);
-                    segments.push((n[0], n[1], hz as f32));
+                    let hz = pitch_track::midi_to_hz((n[2] + tuning_cents / 100.0) as f32);
+                    segments.push((n[0], n[1], hz));
                 }
                 let motion_path = dir.join("motion.json");
-                let strokes_path = dir.join("strokes.tsv");
                 Ok(References {
-                    strokes: if strokes_path.is_file() {
-                        Some(crate::bowing_data::read_strokes(&strokes_path)?)
-                    } else {
-                        None
-                    },
-                    note_strings: Some(
-                        notes
-                            .iter()
-                            .map(|n| (n[0], n[1], n.get(3).map_or(0, |&s| s as u8)))
-                            .collect(),
-                    ),
+                    bowing: Some(super::StrokeReferences::read(dir, &notes)?),
                     notated_meter: crate::beat_data::notated_meter(dir),
                     bow_changes_s: Some(first_column(&dir.join("bowchanges.txt"))?),
                     onsets_s: Some(notes.iter().map(|n| n[0]).collect()),
@@ -296,8 +279,7 @@ impl LabelledRecording {
                     onsets_s,
                     beats_s: None,
                     downbeats_s: None,
-                    strokes: None,
-                    note_strings: None,
+                    bowing: None,
                     notated_meter: (None, None),
                     motion: Some(pose.motion),
                     same_image_space: false,

@@ -1,8 +1,41 @@
 //! Stroke directions and bowed strings of an analysis against a corpus's labelled strokes
 //! and notes.
 
+use std::path::Path;
+
 use performance::BowStroke;
 use serde::{Deserialize, Serialize};
+
+use crate::Result;
+
+/// What a corpus item says about its bowing.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct StrokeReferences {
+    /// Labelled bow strokes (`strokes.tsv`; empty when the item has none).
+    pub strokes: Vec<BowStroke>,
+    /// Sounding notes with their string: onset, offset (seconds), string 1–4 (0 unknown).
+    pub note_strings: Vec<(f64, f64, u8)>,
+}
+
+impl StrokeReferences {
+    /// Reads the strokes of corpus item `dir` and takes the strings from its `notes.tsv`
+    /// rows (`onset, offset, midi, string, …`).
+    pub fn read(dir: &Path, notes: &[Vec<f64>]) -> Result<StrokeReferences> {
+        let path = dir.join("strokes.tsv");
+        Ok(StrokeReferences {
+            strokes: if path.is_file() {
+                crate::bowing_data::read_strokes(&path)?
+            } else {
+                Vec::new()
+            },
+            note_strings: notes
+                .iter()
+                .filter(|n| n.len() >= 2)
+                .map(|n| (n[0], n[1], n.get(3).map_or(0, |&s| s as u8)))
+                .collect(),
+        })
+    }
+}
 
 /// Right answers out of all, pooled over recordings.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
