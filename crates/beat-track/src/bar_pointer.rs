@@ -74,7 +74,7 @@ impl Default for BarPointerConfig {
             gate_window_s: 1.5,
             min_confidence: 0.1,
             // Chosen with `bar_length_prior_per_frame` on the validation split
-            // (violin-train's `tune_meter_prior` example): metre .567 → .692, downbeat F
+            // (violin-train's `tune_beats` example): metre .567 → .692, downbeat F
             // .597 → .626, beat F .786 → .785.
             bar_length_prior_per_frame: vec![0.0025, 0.0075, 0.0025, 0.0],
         }

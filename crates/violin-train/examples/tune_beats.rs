@@ -1,14 +1,17 @@
 //! Chooses the bar-pointer decoder's settings for beat-net's activations on a corpus's
 //! **validation** split only (the test sets are never read): beat and downbeat F (±70 ms,
 //! first 5 s ignored), metre and tempo (±8 %) accuracy for a small grid of
-//! `transition_lambda` × `observation_lambda`.
+//! `transition_lambda` × `observation_lambda`; then the bar-length prior (log-probability
+//! per frame added to each bar length's path before the most likely one is taken), searched
+//! coordinate-wise for the best metre accuracy + downbeat F, each item decoded once per bar
+//! length.
 //!
-//! `cargo run --release -p violin-train --example tune_beats -- /work/data/corpus-10h [WEIGHTS]`
+//! `cargo run --release -p violin-train --example tune_beats -- corpus-10h [WEIGHTS]`
 
 use std::path::PathBuf;
 
 use beat_net::BeatActivation;
-use beat_track::bar_pointer::{decode, BarPointerConfig};
+use beat_track::bar_pointer::{decode, BarPointerBeats, BarPointerConfig};
 use beat_track::eval::{beat_prf, trim_beats};
 use corpus::manifest::Split;
 use violin_train::beat_data::read_first_column;
@@ -17,6 +20,7 @@ use violin_train::feature_cache::cached_mel30;
 
 struct Item {
     act: beat_net::Activations,
+    frames: f64,
     beats: Vec<f64>,
     downbeats: Vec<f64>,
     bar: Option<u64>,
@@ -40,8 +44,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let mel = cached_mel30(&d, &corpus::layout::item_audio(&d))?;
         let labels: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(d.join("labels.json"))?)?;
+        let act = net.activations(mel.view())?;
         items.push(Item {
-            act: net.activations(mel.view())?,
+            frames: act.beat.len() as f64,
+            act,
             beats: read_first_column(&d.join("beats.txt"))?,
             downbeats: read_first_column(&d.join("downbeats.txt"))?,
             bar: labels["beats_per_bar"].as_u64(),
@@ -83,5 +89,82 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             );
         }
     }
+    tune_prior(&items)
+}
+
+/// (beat F, downbeat F, metre accuracy) of the decodings `per_bar[item][bar length]` with
+/// `prior` per bar length.
+fn with_prior(items: &[Item], per_bar: &[Vec<BarPointerBeats>], prior: &[f64]) -> (f64, f64, f64) {
+    let (mut bf, mut df, mut meter) = (0.0, 0.0, 0usize);
+    for (it, decoded) in items.iter().zip(per_bar) {
+        let score = |k: usize| {
+            decoded[k]
+                .log_probability
+                .first()
+                .copied()
+                .unwrap_or(f64::NEG_INFINITY)
+                + prior[k] * it.frames
+        };
+        let best = (0..decoded.len())
+            .max_by(|&a, &b| score(a).total_cmp(&score(b)))
+            .unwrap_or(0);
+        let out = &decoded[best];
+        let tr = |v: &[f64]| trim_beats(v, 5.0);
+        bf += beat_prf(&tr(&it.beats), &tr(&out.beats_s), 0.07).f_measure;
+        df += beat_prf(&tr(&it.downbeats), &tr(&out.downbeats_s), 0.07).f_measure;
+        meter += usize::from(it.bar == Some(out.beats_per_bar as u64) && !out.beats_s.is_empty());
+    }
+    let n = items.len().max(1) as f64;
+    (bf / n, df / n, meter as f64 / n)
+}
+
+/// Searches the bar-length prior (steps of 0.0025 per frame in ±0.03, three rounds).
+fn tune_prior(items: &[Item]) -> Result<(), Box<dyn std::error::Error>> {
+    let base = BarPointerConfig {
+        bar_length_prior_per_frame: Vec::new(),
+        ..BarPointerConfig::default()
+    };
+    let mut per_bar = Vec::with_capacity(items.len());
+    for it in items {
+        let decoded = base
+            .beats_per_bar
+            .iter()
+            .map(|&n| {
+                let cfg = BarPointerConfig {
+                    beats_per_bar: vec![n],
+                    ..base.clone()
+                };
+                decode(&it.act.beat, &it.act.downbeat, &cfg)
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        per_bar.push(decoded);
+    }
+    let mut prior = vec![0.0; base.beats_per_bar.len()];
+    let start = with_prior(items, &per_bar, &prior);
+    println!("\nbar lengths {:?}", base.beats_per_bar);
+    println!(
+        "no prior: beat F {:.3}  downbeat F {:.3}  metre {:.3}",
+        start.0, start.1, start.2
+    );
+    let objective = |s: (f64, f64, f64)| s.2 + s.1;
+    let mut best = objective(start);
+    for _round in 0..3 {
+        for k in 0..prior.len() {
+            for step in -12..=12 {
+                let mut p = prior.clone();
+                p[k] = f64::from(step) * 0.0025;
+                let s = with_prior(items, &per_bar, &p);
+                if objective(s) > best + 1e-9 {
+                    best = objective(s);
+                    prior = p;
+                }
+            }
+        }
+    }
+    let s = with_prior(items, &per_bar, &prior);
+    println!(
+        "prior {prior:?}: beat F {:.3}  downbeat F {:.3}  metre {:.3}",
+        s.0, s.1, s.2
+    );
     Ok(())
 }
