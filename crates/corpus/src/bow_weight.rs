@@ -63,6 +63,8 @@ pub fn apply_bow_weight(
     }
     let sr = f64::from(sample_rate_hz);
     let alpha = 1.0 - (-1.0 / (SMOOTHING_S * sr)).exp();
+    // 10^(dB/20) as one exp per sample.
+    let db_to_ln = std::f64::consts::LN_10 / 20.0;
     let mut k = 0usize;
     let mut smoothed_db = stroke_gain_db(&strokes[0], strokes[0].start_s, tilt_db);
     for (i, sample) in audio.iter_mut().enumerate() {
@@ -72,7 +74,7 @@ pub fn apply_bow_weight(
         }
         let target = stroke_gain_db(&strokes[k], t, tilt_db);
         smoothed_db += alpha * (target - smoothed_db);
-        *sample *= 10f64.powf(smoothed_db / 20.0) as f32;
+        *sample *= (smoothed_db * db_to_ln).exp() as f32;
     }
 }
 

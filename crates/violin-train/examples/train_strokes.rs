@@ -301,14 +301,9 @@ fn extra_scores(
     ] {
         let dirs = bow_directions(&found.bow_changes_s, &notes, downbeats);
         let predicted = strokes_of(&found.bow_changes_s, &dirs, &notes);
-        for s in &r.strokes {
-            let mid = 0.5 * (s.start_s + s.end_s);
-            counts.1 += 1;
-            let i = predicted.partition_point(|p| p.start_s <= mid);
-            if i > 0 && predicted[i - 1].direction == s.direction {
-                counts.0 += 1;
-            }
-        }
+        let t = violin_train::evaluate::direction_tally(&r.strokes, &predicted);
+        counts.0 += t.right;
+        counts.1 += t.total;
     }
     for (f, &string) in r.strings.iter().enumerate() {
         if !(1..=4).contains(&string) {

@@ -2,7 +2,8 @@
 //! changes, notes, downbeats and the network's down-bow output), their accuracy against the
 //! labelled strokes, and the choice of the direction decoder on validation items.
 //!
-//! Accuracy is counted per labelled stroke: the decoded stroke sounding at the labelled
+//! Accuracy is counted per labelled stroke as `evaluate` counts it
+//! ([`crate::evaluate::direction_tally`]): the decoded stroke sounding at the labelled
 //! stroke's midpoint must have its direction.
 
 use bowing_net::data::Recording;
@@ -10,6 +11,7 @@ use bowing_net::stroke::direction::DirectionDecoder;
 use bowing_net::BowingModel;
 use performance::{strokes_of, BowStroke, Note};
 
+use crate::evaluate::direction_tally;
 use crate::Result;
 
 /// One labelled item, analysed once: everything the direction decoding reads.
@@ -61,15 +63,8 @@ pub fn direction_accuracy(
     bowed.direction_decoder = decoder;
     let dirs = bowed.directions(&case.bow_changes_s, &case.notes, &case.downbeats_s);
     let predicted = strokes_of(&case.bow_changes_s, &dirs, &case.notes);
-    let mut right = 0;
-    for s in &case.truth {
-        let mid = 0.5 * (s.start_s + s.end_s);
-        let i = predicted.partition_point(|p| p.start_s <= mid);
-        if i > 0 && predicted[i - 1].direction == s.direction {
-            right += 1;
-        }
-    }
-    (right, case.truth.len())
+    let t = direction_tally(&case.truth, &predicted);
+    (t.right, t.total)
 }
 
 /// Pooled accuracy over `cases`.
