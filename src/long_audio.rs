@@ -241,7 +241,8 @@ impl Pipeline {
         // Directions and strokes over the whole file, as for a whole analysis; the strings
         // the chunks heard are kept, and so are their directions when the bowing model
         // decodes them from the audio.
-        let mut bow_directions = performance::bow_directions(&bow_changes_s, &notes, &downbeats_s);
+        let mut bow_directions =
+            performance::heard_bow_directions(&bow_changes_s, &notes, &downbeats_s);
         if self.hears_directions()? {
             crate::strokes::keep_heard_directions(
                 &bow_changes_s,

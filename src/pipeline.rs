@@ -315,7 +315,12 @@ impl Pipeline {
             .zip(places)
             .map(|(n, f)| Note { fingering: f, ..*n })
             .collect();
-        let bow_directions = bowed.directions(&bow_changes_s, &analyzed_notes, &beats.downbeats_s);
+        let bow_directions = bowed.directions(
+            &bow_changes_s,
+            &analyzed_notes,
+            &beats.beats_s,
+            &beats.downbeats_s,
+        );
         let bow_strokes = crate::strokes::strokes_with_strings(
             &bowed,
             &bow_changes_s,

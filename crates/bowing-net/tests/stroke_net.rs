@@ -155,6 +155,8 @@ fn the_direction_decoder_travels_with_the_weights_and_uses_the_down_output() {
         net_weight: 2.0,
         rule_weight: 0.25,
         stay_probability: 0.1,
+        downbeat_weight: 1.0,
+        beat_weight: 0.5,
     };
     d.set_direction_decoder(Some(decoder));
     let back = StrokeDetector::from_bytes(&d.to_bytes().unwrap(), Path::new("w")).unwrap();
@@ -166,11 +168,20 @@ fn the_direction_decoder_travels_with_the_weights_and_uses_the_down_output() {
         .analyze_mel(Array2::from_elem((60, 128), -100.0f32).view())
         .unwrap();
     found.frames.down = [vec![0.05f32; 30], vec![0.95f32; 30]].concat();
-    assert_eq!(found.directions(&[0.0, 1.0], &notes, &[]), vec![Up, Down]);
-    // Without a decoder, or without the down output, the rules decide.
+    assert_eq!(
+        found.directions(&[0.0, 1.0], &notes, &[], &[]),
+        vec![Up, Down]
+    );
+    // Without a decoder, or without the down output (no beats either), the rules decide.
     found.direction_decoder = None;
-    assert_eq!(found.directions(&[0.0, 1.0], &notes, &[]), vec![Down, Up]);
+    assert_eq!(
+        found.directions(&[0.0, 1.0], &notes, &[], &[]),
+        vec![Down, Up]
+    );
     found.direction_decoder = Some(decoder);
     found.frames.down.clear();
-    assert_eq!(found.directions(&[0.0, 1.0], &notes, &[]), vec![Down, Up]);
+    assert_eq!(
+        found.directions(&[0.0, 1.0], &notes, &[], &[]),
+        vec![Down, Up]
+    );
 }

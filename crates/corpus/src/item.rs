@@ -10,7 +10,7 @@ use crate::bow_weight::{apply_bow_weight, draw_tilt_db};
 use crate::double_stop::{double_stops, mix_into, DoubleStops};
 use crate::error::CorpusError;
 use crate::etude::{generate, EtudeConfig};
-use crate::perform::{bow_strokes, perform, TimingDraw};
+use crate::perform::{bow_strokes, hook_to_downbeats, perform, TimingDraw};
 use crate::render::{RenderSettings, Renderer};
 use crate::room::Recording;
 use crate::score::Score;
@@ -20,6 +20,8 @@ use performance::Timeline;
 
 /// The item seed's fork that draws the bow-weight tilt ([`crate::bow_weight`]).
 const BOW_WEIGHT_FORK: u64 = 7;
+/// The item seed's fork that draws where the player hooks strokes ([`hook_to_downbeats`]).
+const HOOK_FORK: u64 = 8;
 
 /// Which renderer made an item.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -177,7 +179,8 @@ pub fn performed_length_s(score: &Score, seed: u64) -> f64 {
 pub const TEMPO_RANGE_BPM: (f64, f64) = (40.0, 200.0);
 
 /// Makes an item from a written `score` (an étude's or a repertoire excerpt): a human
-/// performance drawn from `seed` ([`perform`]), fingering by the optimal planner, motion,
+/// performance drawn from `seed` ([`perform`]) whose player hooks strokes so that most
+/// bars start down-bow ([`hook_to_downbeats`]), fingering by the optimal planner, motion,
 /// bow strokes, double stops ([`crate::double_stop`]), and audio from `renderer` through a
 /// seeded [`Recording`] (room, stereo, noise, level, rate, lossy coding) with a tuning
 /// offset of ±10 cents, or dry at 22.05 kHz when `augment` is false.
@@ -191,6 +194,7 @@ pub fn make_score_item(
     let root = Rng::new(seed);
     let played = perform(score, root.fork(2).next_u64(), TEMPO_RANGE_BPM);
     let mut timeline = played.timeline;
+    hook_to_downbeats(&mut timeline, &mut root.fork(HOOK_FORK));
     timeline.assign_fingering(&fingering::OptimalPlanner::default());
     let double_stops = double_stops(score, &timeline);
     let performance = performance_of(&timeline)?;

@@ -282,3 +282,15 @@ pub fn bow_strokes(timeline: &Timeline) -> Vec<BowStroke> {
     let directions = bow_directions(&changes, &notes, &timeline.downbeats_s);
     performance::strokes_of(&changes, &directions, &notes)
 }
+
+/// The range of a player's adherence to "a bar starts down-bow": the chance, drawn once
+/// per item, that they hook a stroke where a bar would otherwise start up-bow.
+pub const HOOK_ADHERENCE: (f64, f64) = (0.7, 1.0);
+
+/// Plays some strokes hooked, as violinists bow: where a bar would start up-bow, the two
+/// strokes before it are joined into one bow ([`Timeline::hook_to_downbeats`]) with a
+/// probability drawn from [`HOOK_ADHERENCE`] for the item. Returns the number of hooks.
+pub fn hook_to_downbeats(timeline: &mut Timeline, rng: &mut Rng) -> usize {
+    let adherence = rng.uniform(HOOK_ADHERENCE.0, HOOK_ADHERENCE.1);
+    timeline.hook_to_downbeats(|_| rng.chance(adherence))
+}

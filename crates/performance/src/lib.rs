@@ -18,6 +18,8 @@
 //! * [`midi`] (feature `midi`) — Standard MIDI Files → [`midi::MidiScore`] (every note,
 //!   beats, bars) and [`Timeline`];
 //! * [`bow_directions`] — down- and up-bows from bow changes, notes and bars.
+//! * [`heard_bow_directions`] — the same from bow changes and bars found in audio.
+//! * [`hooks_for_downbeats`] — the bow changes a player drops so that bars start down-bow.
 //!
 //! ```
 //! use performance::{ArousalCurve, Performance};
@@ -57,7 +59,10 @@ pub use crate::performance::{
 };
 pub use analysis::{tempo_per_beat, Analysis, F0Track, ANALYSIS_SCHEMA_VERSION};
 pub use arousal::{arousal_proxy_of_spans, ArousalCurve};
-pub use bowing::{bow_directions, BowDirection, RETAKE_REST_S};
+pub use bowing::{
+    bow_directions, heard_bow_directions, hooks_for_downbeats, BowDirection, HEARD_ON_BEAT_S,
+    MAX_HOOKED_STROKE_S, RETAKE_REST_S,
+};
 #[cfg(feature = "midi")]
 pub use error::MidiError;
 pub use error::{PerformanceError, PerformanceFileError};

@@ -13,7 +13,9 @@
 //!   it follows within 30 ms (legato), the slur has fewer than 4 notes (8 when notes are
 //!   shorter than 0.2 s), the bow has been moving for less than 2 s, it is not the first
 //!   note of a bar, and its velocity is within 20 of the previous one; every other note
-//!   starts a new stroke; directions follow [`crate::bow_directions`];
+//!   starts a new stroke; where a bar would then start up-bow, the two strokes before it
+//!   are hooked into one bow when that is playable ([`crate::hooks_for_downbeats`]);
+//!   directions follow [`crate::bow_directions`];
 //! * beats from the tempo map and every time signature (quarter notes, dotted quarters in
 //!   6/8, 9/8, 12/8); a file without a time signature gets the bar length (2, 3 or 4
 //!   beats) and phase that put the longest and loudest notes on downbeats;

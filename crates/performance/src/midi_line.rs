@@ -190,12 +190,14 @@ pub fn timeline_from_score(score: &MidiScore) -> Timeline {
     let notes = assign_bowing(reduce_to_line(&score.notes), &score.downbeats_s);
     let duration_s = score.duration_s;
     let arousal_2hz = arousal_proxy(&notes, duration_s);
-    Timeline {
+    let mut timeline = Timeline {
         duration_s,
         tempo_bpm: score.tempo_bpm,
         notes,
         beats_s: score.beats_s.clone(),
         downbeats_s: score.downbeats_s.clone(),
         arousal_2hz,
-    }
+    };
+    timeline.hook_to_downbeats(|_| true);
+    timeline
 }

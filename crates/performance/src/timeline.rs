@@ -61,6 +61,31 @@ impl Timeline {
             .collect()
     }
 
+    /// Joins strokes where a player hooks them so that bars start down-bow
+    /// ([`crate::hooks_for_downbeats`], asking `may_hook` at each place): the later note is
+    /// slurred onto the earlier one, which sounds until it starts. Returns the number of
+    /// hooks.
+    pub fn hook_to_downbeats(&mut self, may_hook: impl FnMut(usize) -> bool) -> usize {
+        let notes: Vec<Note> = self.notes.iter().map(|n| n.note).collect();
+        let changes = self.bow_changes_s();
+        let hooks = crate::hooks_for_downbeats(&changes, &notes, &self.downbeats_s, may_hook);
+        for &h in &hooks {
+            let Some(&t) = changes.get(h) else { continue };
+            let Some(j) = self
+                .notes
+                .iter()
+                .position(|n| n.bow_change && n.note.onset_s == t)
+            else {
+                continue;
+            };
+            self.notes[j].bow_change = false;
+            if let Some(prev) = j.checked_sub(1).and_then(|p| self.notes.get_mut(p)) {
+                prev.note.offset_s = prev.note.offset_s.max(t);
+            }
+        }
+        hooks.len()
+    }
+
     /// The timeline as a validated [`Performance`]: its notes (with their fingerings), bow
     /// changes, beats, downbeats, arousal and per-note dynamics.
     pub fn to_performance(&self) -> Result<Performance, PerformanceError> {

@@ -279,7 +279,7 @@ fn extra_scores(
     pipeline: &violin_skeleton::Pipeline,
     row: &mut Row,
 ) -> Result<(), Box<dyn std::error::Error>> {
-    use performance::{bow_directions, strokes_of, Note};
+    use performance::{heard_bow_directions, strokes_of, Note};
     let dir = corpus.join(&r.name);
     let audio = dsp_mel::load_audio(corpus::layout::item_audio(&dir))?;
     let analysis = pipeline.analyze(&audio)?;
@@ -299,7 +299,7 @@ fn extra_scores(
         (&analysis.downbeats_s, &mut row.direction_tracked),
         (&truth_downbeats, &mut row.direction_true),
     ] {
-        let dirs = bow_directions(&found.bow_changes_s, &notes, downbeats);
+        let dirs = heard_bow_directions(&found.bow_changes_s, &notes, downbeats);
         let predicted = strokes_of(&found.bow_changes_s, &dirs, &notes);
         let t = violin_train::evaluate::direction_tally(&r.strokes, &predicted);
         counts.0 += t.right;

@@ -21,6 +21,8 @@ pub struct DirectionCase {
     pub bow_changes_s: Vec<f64>,
     /// The analysis's notes.
     pub notes: Vec<Note>,
+    /// The analysis's beats, seconds.
+    pub beats_s: Vec<f64>,
     /// The analysis's downbeats, seconds.
     pub downbeats_s: Vec<f64>,
     /// The model's analysis (down-bow probabilities per frame included).
@@ -47,6 +49,7 @@ pub fn direction_case(
     Ok(DirectionCase {
         bow_changes_s: bowed.bow_changes_s.clone(),
         notes: analysis.notes,
+        beats_s: analysis.beats_s,
         downbeats_s: analysis.downbeats_s,
         bowed,
         truth: r.strokes.clone(),
@@ -61,7 +64,12 @@ pub fn direction_accuracy(
 ) -> (usize, usize) {
     let mut bowed = case.bowed.clone();
     bowed.direction_decoder = decoder;
-    let dirs = bowed.directions(&case.bow_changes_s, &case.notes, &case.downbeats_s);
+    let dirs = bowed.directions(
+        &case.bow_changes_s,
+        &case.notes,
+        &case.beats_s,
+        &case.downbeats_s,
+    );
     let predicted = strokes_of(&case.bow_changes_s, &dirs, &case.notes);
     let t = direction_tally(&case.truth, &predicted);
     (t.right, t.total)
@@ -83,21 +91,27 @@ pub fn pooled_accuracy(cases: &[DirectionCase], decoder: Option<DirectionDecoder
 }
 
 /// The decoder with the best pooled accuracy on `cases` (validation items only) over a
-/// grid of network weights, rule weights and stay probabilities, and its accuracy; the
-/// rules alone (`None`) when nothing beats them.
+/// grid of network, rule, downbeat and beat weights and stay probabilities, and its
+/// accuracy; the rules alone (`None`) when nothing beats them.
 pub fn tune_direction_decoder(cases: &[DirectionCase]) -> (Option<DirectionDecoder>, f64) {
     let mut best = (None, pooled_accuracy(cases, None));
-    for net_weight in [0.25f32, 0.5, 1.0, 2.0, 4.0] {
-        for rule_weight in [0.0f32, 0.25, 0.5, 1.0, 2.0] {
-            for stay_probability in [0.02f32, 0.05, 0.1, 0.2, 0.35] {
-                let d = DirectionDecoder {
-                    net_weight,
-                    rule_weight,
-                    stay_probability,
-                };
-                let acc = pooled_accuracy(cases, Some(d));
-                if acc > best.1 {
-                    best = (Some(d), acc);
+    for net_weight in [0.0f32, 0.25, 0.5, 1.0, 2.0, 4.0] {
+        for rule_weight in [0.0f32, 0.25, 0.5, 1.0] {
+            for stay_probability in [0.02f32, 0.05, 0.1, 0.2] {
+                for downbeat_weight in [0.0f32, 1.0, 2.0, 3.0] {
+                    for beat_weight in [0.0f32, 0.3] {
+                        let d = DirectionDecoder {
+                            net_weight,
+                            rule_weight,
+                            stay_probability,
+                            downbeat_weight,
+                            beat_weight,
+                        };
+                        let acc = pooled_accuracy(cases, Some(d));
+                        if acc > best.1 {
+                            best = (Some(d), acc);
+                        }
+                    }
                 }
             }
         }

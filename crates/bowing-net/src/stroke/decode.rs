@@ -9,8 +9,8 @@
 //!    its frames.
 //!
 //! Stroke *directions* are decoded by [`super::direction`]: the bowing rules over the
-//! detected changes (`performance::bow_directions`) together with the network's down-bow
-//! output, when the weights carry a direction decoder.
+//! detected changes (`performance::heard_bow_directions`) together with the network's
+//! down-bow output, when the weights carry a direction decoder.
 
 use fingering::ViolinString;
 

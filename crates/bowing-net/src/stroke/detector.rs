@@ -12,7 +12,7 @@ use net_core::vars;
 use performance::{BowDirection, BowStroke};
 
 use super::decode::{changes_inside, played_stretches, string_between};
-use super::direction::{mean_log_odds, DirectionDecoder};
+use super::direction::{beat_places, mean_log_odds, DirectionDecoder};
 use super::input::{stroke_input, tonal_prominence_db};
 use super::model::{StrokeConfig, StrokeNet, DTYPE};
 use super::outputs::FrameOutputs;
@@ -54,29 +54,29 @@ impl StrokeAnalysis {
         )
     }
 
-    /// The direction of the stroke each of `bow_changes_s` starts: the bowing rules
-    /// (`performance::bow_directions` over `notes` and `downbeats_s`), decoded together with
-    /// the network's down-bow output when the weights carry a direction decoder
-    /// ([`crate::stroke::direction`]).
+    /// The direction of the stroke each of `bow_changes_s` starts: the bowing rules for
+    /// heard strokes (`performance::heard_bow_directions` over `notes` and `downbeats_s`),
+    /// or, when the weights carry a direction decoder ([`crate::stroke::direction`]), that
+    /// decoder over the rules, the network's down-bow output and where each stroke starts
+    /// among `beats_s` and `downbeats_s`.
     pub fn directions(
         &self,
         bow_changes_s: &[f64],
         notes: &[performance::Note],
+        beats_s: &[f64],
         downbeats_s: &[f64],
     ) -> Vec<BowDirection> {
-        let rules = performance::bow_directions(bow_changes_s, notes, downbeats_s);
+        let rules = performance::heard_bow_directions(bow_changes_s, notes, downbeats_s);
         let Some(decoder) = self.direction_decoder else {
             return rules;
         };
-        if self.frames.down.is_empty() {
-            return rules;
-        }
         let frame = |t: f64| (t * FPS).round().max(0.0) as usize;
         let evidence: Vec<f32> = performance::strokes_of(bow_changes_s, &rules, notes)
             .iter()
             .map(|s| mean_log_odds(&self.frames.down, frame(s.start_s), frame(s.end_s)))
             .collect();
-        decoder.decode(&evidence, &rules)
+        let places = beat_places(bow_changes_s, beats_s, downbeats_s);
+        decoder.decode(&evidence, &rules, &places)
     }
 
     /// Sets each stroke's string from the network where it has string output.

@@ -6,10 +6,10 @@
 //! change between two detected strokes, or a retake); each stroke's evidence is the
 //! network's mean down-bow log-odds over the stroke's frames, weighted by
 //! [`DirectionDecoder::net_weight`], plus [`DirectionDecoder::rule_weight`] for the
-//! direction the bowing rules give it (`performance::bow_directions`: a pickup up-bow, a
-//! retake to down-bow after a rest). Viterbi finds the most probable sequence, so one
-//! clear long stroke sets the direction of the short ones around it, and a missed change
-//! does not flip the rest of the phrase. The weights are chosen on validation data and
+//! direction the bowing rules give it (`performance::heard_bow_directions`: a pickup
+//! up-bow, a retake to down-bow after a rest, a down-bow on a downbeat). Viterbi finds the
+//! most probable sequence, so one clear long stroke sets the direction of the short ones
+//! around it, and a missed change does not flip the rest of the phrase. The weights are chosen on validation data and
 //! stored with the network's weights.
 
 use performance::BowDirection;
@@ -24,6 +24,52 @@ pub struct DirectionDecoder {
     pub rule_weight: f32,
     /// Probability that a stroke keeps the previous stroke's direction.
     pub stay_probability: f32,
+    /// Log-bonus for a down-bow on a stroke that starts on a downbeat (players plan their
+    /// bowing so that bars start down-bow). 0 in files written before it existed.
+    #[serde(default)]
+    pub downbeat_weight: f32,
+    /// Log-bonus for a down-bow on a stroke that starts on another beat.
+    #[serde(default)]
+    pub beat_weight: f32,
+}
+
+/// Where a stroke starts in the bar, as heard: on a downbeat, on another beat, or between
+/// beats (within [`performance::HEARD_ON_BEAT_S`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BeatPlace {
+    /// On a downbeat.
+    Downbeat,
+    /// On a beat that is not a downbeat.
+    Beat,
+    /// Between beats.
+    Between,
+}
+
+/// The [`BeatPlace`] of each of `starts_s` among sorted `beats_s` and `downbeats_s`.
+///
+/// ```
+/// use bowing_net::stroke::direction::{beat_places, BeatPlace::*};
+/// let places = beat_places(&[0.0, 0.52, 0.75, 1.96], &[0.0, 0.5, 1.0, 1.5, 2.0], &[0.0, 2.0]);
+/// assert_eq!(places, vec![Downbeat, Beat, Between, Downbeat]);
+/// ```
+pub fn beat_places(starts_s: &[f64], beats_s: &[f64], downbeats_s: &[f64]) -> Vec<BeatPlace> {
+    let tol = performance::HEARD_ON_BEAT_S;
+    let near = |times: &[f64], t: f64| {
+        let i = times.partition_point(|&x| x < t - tol);
+        times.get(i).is_some_and(|&x| (x - t).abs() <= tol)
+    };
+    starts_s
+        .iter()
+        .map(|&t| {
+            if near(downbeats_s, t) {
+                BeatPlace::Downbeat
+            } else if near(beats_s, t) {
+                BeatPlace::Beat
+            } else {
+                BeatPlace::Between
+            }
+        })
+        .collect()
 }
 
 impl Default for DirectionDecoder {
@@ -33,6 +79,8 @@ impl Default for DirectionDecoder {
             net_weight: 0.0,
             rule_weight: 1.0,
             stay_probability: 0.05,
+            downbeat_weight: 0.0,
+            beat_weight: 0.0,
         }
     }
 }
@@ -64,19 +112,25 @@ fn log_sigmoid(x: f32) -> f32 {
 
 impl DirectionDecoder {
     /// The directions of strokes with mean down-bow log-odds `evidence` (one per stroke,
-    /// [`mean_log_odds`]) and the rules' directions `rules` (same length; extra entries of
-    /// either are ignored).
+    /// [`mean_log_odds`]), the rules' directions `rules` (same length; extra entries of
+    /// either are ignored) and where each stroke starts in the bar, `places` (missing
+    /// entries count as [`BeatPlace::Between`]).
     ///
     /// ```
     /// use bowing_net::stroke::direction::DirectionDecoder;
     /// use performance::BowDirection::{Down, Up};
-    /// let d = DirectionDecoder { net_weight: 1.0, rule_weight: 0.5, stay_probability: 0.05 };
+    /// let d = DirectionDecoder { net_weight: 1.0, rule_weight: 0.5, ..Default::default() };
     /// // The rules started on the wrong foot (a missed change); the network clearly hears
     /// // the first and third strokes as up-bows.
-    /// let dirs = d.decode(&[-3.0, 0.0, -3.0, 0.0], &[Down, Up, Down, Up]);
+    /// let dirs = d.decode(&[-3.0, 0.0, -3.0, 0.0], &[Down, Up, Down, Up], &[]);
     /// assert_eq!(dirs, vec![Up, Down, Up, Down]);
     /// ```
-    pub fn decode(&self, evidence: &[f32], rules: &[BowDirection]) -> Vec<BowDirection> {
+    pub fn decode(
+        &self,
+        evidence: &[f32],
+        rules: &[BowDirection],
+        places: &[BeatPlace],
+    ) -> Vec<BowDirection> {
         let n = evidence.len().min(rules.len());
         if n == 0 {
             return Vec::new();
@@ -93,12 +147,17 @@ impl DirectionDecoder {
                 BowDirection::Down => log_sigmoid(odds),
                 BowDirection::Up => log_sigmoid(-odds),
             };
-            self.net_weight * net
-                + if rules[k] == dir {
-                    self.rule_weight
-                } else {
-                    0.0
-                }
+            let rule = if rules[k] == dir {
+                self.rule_weight
+            } else {
+                0.0
+            };
+            let place = match (dir, places.get(k)) {
+                (BowDirection::Down, Some(BeatPlace::Downbeat)) => self.downbeat_weight,
+                (BowDirection::Down, Some(BeatPlace::Beat)) => self.beat_weight,
+                _ => 0.0,
+            };
+            self.net_weight * net + rule + place
         };
         const STATES: [BowDirection; 2] = [BowDirection::Down, BowDirection::Up];
         let mut score = [emit(0, STATES[0]), emit(0, STATES[1])];
@@ -141,19 +200,52 @@ mod tests {
         let alone = DirectionDecoder {
             net_weight: 0.0,
             rule_weight: 5.0,
-            stay_probability: 0.05,
+            ..Default::default()
         };
-        assert_eq!(alone.decode(&[0.0; 5], &rules), rules.to_vec());
+        assert_eq!(alone.decode(&[0.0; 5], &rules, &[]), rules.to_vec());
         let heard = DirectionDecoder {
             net_weight: 1.0,
             rule_weight: 0.2,
-            stay_probability: 0.05,
+            ..Default::default()
         };
         // Strong up-bow evidence on the first two strokes' alternation.
-        let dirs = heard.decode(&[-4.0, 4.0, -4.0, 0.0, 0.0], &[Down, Up, Down, Up, Down]);
+        let dirs = heard.decode(
+            &[-4.0, 4.0, -4.0, 0.0, 0.0],
+            &[Down, Up, Down, Up, Down],
+            &[],
+        );
         assert_eq!(dirs, vec![Up, Down, Up, Down, Up]);
-        assert!(heard.decode(&[], &[]).is_empty());
-        assert_eq!(heard.decode(&[f32::NAN], &[Up]), vec![Up]);
+        assert!(heard.decode(&[], &[], &[]).is_empty());
+        assert_eq!(heard.decode(&[f32::NAN], &[Up], &[]), vec![Up]);
+    }
+
+    #[test]
+    fn downbeats_put_the_bow_back_in_phase() {
+        use BeatPlace::{Between, Downbeat};
+        // Alternation with no rule or network evidence: the downbeats decide the phase.
+        let bars = DirectionDecoder {
+            net_weight: 0.0,
+            rule_weight: 0.0,
+            stay_probability: 0.05,
+            downbeat_weight: 4.0,
+            beat_weight: 0.0,
+        };
+        // Both downbeats down costs one kept direction (a missed change) between them.
+        let places = [Between, Downbeat, Between, Between, Downbeat];
+        let dirs = bars.decode(&[0.0; 5], &[Down; 5], &places);
+        assert_eq!((dirs[0], dirs[1], dirs[4]), (Up, Down, Down));
+        let kept = dirs.windows(2).filter(|w| w[0] == w[1]).count();
+        assert_eq!(kept, 1);
+        // Without the downbeat weight the same cues give plain alternation.
+        let plain = DirectionDecoder {
+            downbeat_weight: 0.0,
+            rule_weight: 0.5,
+            ..bars
+        };
+        assert_eq!(
+            plain.decode(&[0.0; 3], &[Down, Up, Down], &places),
+            vec![Down, Up, Down]
+        );
     }
 
     #[test]
