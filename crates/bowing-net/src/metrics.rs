@@ -210,6 +210,20 @@ pub fn validation_f1(
     Ok((counts.f1(), all))
 }
 
+/// F1 (±2 frames, events pooled) of `decoder` over per-recording change probabilities
+/// `probs` of the recordings `val`.
+pub fn decoder_f1(
+    probs: &[Vec<f32>],
+    val: &[crate::data::Recording],
+    decoder: &crate::Decoder,
+) -> f64 {
+    let mut c = Counts::default();
+    for (p, r) in probs.iter().zip(val) {
+        c.add(&match_events(&decoder.pick(p), &r.changes, 2));
+    }
+    c.f1()
+}
+
 /// The decoder (threshold 0.2–0.9, spacing 2–4 frames) with the best F1 at ±2 frames.
 pub fn tune_decoder(probs: &[Vec<f32>], val: &[crate::data::Recording]) -> (crate::Decoder, f64) {
     let mut best = (crate::Decoder::default(), -1.0);
@@ -219,12 +233,9 @@ pub fn tune_decoder(probs: &[Vec<f32>], val: &[crate::data::Recording]) -> (crat
                 threshold: 0.2 + 0.05 * k as f32,
                 min_spacing_frames: spacing,
             };
-            let mut c = Counts::default();
-            for (p, r) in probs.iter().zip(val) {
-                c.add(&match_events(&d.pick(p), &r.changes, 2));
-            }
-            if c.f1() > best.1 {
-                best = (d, c.f1());
+            let f1 = decoder_f1(probs, val, &d);
+            if f1 > best.1 {
+                best = (d, f1);
             }
         }
     }

@@ -11,7 +11,9 @@
 //!
 //! After training (or with `--write-ensemble`), the decoder of the mean of the CNN's and the
 //! stroke network's change probabilities is tuned on the validation split and stored in the
-//! weights file (the shipped default uses that ensemble).
+//! weights file (the shipped default uses that ensemble); a decoder the file already carries
+//! is kept unless the re-tuned one gains at least 0.005 F1 on validation. The direction
+//! decoder is then tuned on the validation split over the stored changes.
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -26,6 +28,10 @@ use violin_train::bowing_data::{load_dataset, read_manifest};
 use violin_train::stroke_directions::{
     direction_accuracy, direction_case, pooled_accuracy, tune_direction_decoder,
 };
+
+/// The validation F1 a re-tuned ensemble decoder must gain over the stored one to replace
+/// it (smaller differences are noise on a hundred items).
+const MIN_DECODER_GAIN_F1: f64 = 0.005;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -145,7 +151,22 @@ fn report(
         .iter()
         .map(|r| ensemble_probs(&cnn, &strokes, r))
         .collect::<Result<Vec<_>, _>>()?;
-    let (ensemble_decoder, ensemble_val_f1) = bowing_net::metrics::tune_decoder(&val_probs, val);
+    let (tuned, tuned_f1) = bowing_net::metrics::tune_decoder(&val_probs, val);
+    // A stored ensemble decoder is replaced only by one that is clearly better on validation.
+    let (ensemble_decoder, ensemble_val_f1) = match strokes.ensemble_decoder() {
+        Some(stored) => {
+            let stored_f1 = bowing_net::metrics::decoder_f1(&val_probs, val, &stored);
+            eprintln!(
+                "stored ensemble decoder {stored:?}: validation F1 {stored_f1:.3}; re-tuned {tuned:?}: {tuned_f1:.3}"
+            );
+            if tuned_f1 >= stored_f1 + MIN_DECODER_GAIN_F1 {
+                (tuned, tuned_f1)
+            } else {
+                (stored, stored_f1)
+            }
+        }
+        None => (tuned, tuned_f1),
+    };
     eprintln!("ensemble decoder {ensemble_decoder:?}, validation F1 {ensemble_val_f1:.3}");
     if write_ensemble {
         strokes.set_ensemble_decoder(Some(ensemble_decoder));
