@@ -111,6 +111,15 @@ fn the_line_for_motion_keeps_the_top_note_and_slurs_by_the_rules() {
     assert!(changes[3] && !changes[4] && !changes[5]); // legato eighths slur after the bar's first
     assert!(changes[9]); // downbeat of bar 3
     assert!(t.arousal_2hz.iter().all(|a| (-1.0..=1.0).contains(a)));
+    // Every bar that starts with a bow change starts down-bow.
+    let notes: Vec<performance::Note> = t.notes.iter().map(|n| n.note).collect();
+    let bow_changes_s = t.bow_changes_s();
+    let dirs = performance::bow_directions(&bow_changes_s, &notes, &t.downbeats_s);
+    for (c, d) in bow_changes_s.iter().zip(&dirs) {
+        if t.downbeats_s.iter().any(|b| (b - c).abs() < 0.02) {
+            assert_eq!(*d, performance::BowDirection::Down, "bar at {c} s");
+        }
+    }
 }
 
 #[test]
