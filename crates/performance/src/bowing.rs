@@ -89,6 +89,21 @@ impl<'a> DirectionRules<'a> {
         }
     }
 
+    /// The direction of each stroke of `bow_changes_s`, by [`Self::direction`]; with
+    /// `downbeats_down`, every stroke after the first that starts on a downbeat is a
+    /// down-bow.
+    fn directions(&self, bow_changes_s: &[f64], downbeats_down: bool) -> Vec<BowDirection> {
+        let mut out: Vec<BowDirection> = Vec::with_capacity(bow_changes_s.len());
+        for (k, &t) in bow_changes_s.iter().enumerate() {
+            let direction = match out.last() {
+                Some(_) if downbeats_down && self.on_downbeat(t) => BowDirection::Down,
+                previous => self.direction(previous.copied(), t, bow_changes_s.get(k + 1).copied()),
+            };
+            out.push(direction);
+        }
+        out
+    }
+
     /// The direction of the stroke starting at `t` after one of direction `previous`
     /// (`None` for the first stroke, whose successor starts at `next`).
     fn direction(&self, previous: Option<BowDirection>, t: f64, next: Option<f64>) -> BowDirection {
@@ -130,13 +145,7 @@ pub fn bow_directions(
     notes: &[Note],
     downbeats_s: &[f64],
 ) -> Vec<BowDirection> {
-    let rules = DirectionRules::new(notes, downbeats_s, ON_BEAT_S);
-    let mut out: Vec<BowDirection> = Vec::with_capacity(bow_changes_s.len());
-    for (k, &t) in bow_changes_s.iter().enumerate() {
-        let direction = rules.direction(out.last().copied(), t, bow_changes_s.get(k + 1).copied());
-        out.push(direction);
-    }
-    out
+    DirectionRules::new(notes, downbeats_s, ON_BEAT_S).directions(bow_changes_s, false)
 }
 
 /// The directions of heard strokes (bow changes and downbeats found in audio): the rules
@@ -161,17 +170,7 @@ pub fn heard_bow_directions(
     notes: &[Note],
     downbeats_s: &[f64],
 ) -> Vec<BowDirection> {
-    let rules = DirectionRules::new(notes, downbeats_s, HEARD_ON_BEAT_S);
-    let mut out: Vec<BowDirection> = Vec::with_capacity(bow_changes_s.len());
-    for (k, &t) in bow_changes_s.iter().enumerate() {
-        let direction = if k > 0 && rules.on_downbeat(t) {
-            BowDirection::Down
-        } else {
-            rules.direction(out.last().copied(), t, bow_changes_s.get(k + 1).copied())
-        };
-        out.push(direction);
-    }
-    out
+    DirectionRules::new(notes, downbeats_s, HEARD_ON_BEAT_S).directions(bow_changes_s, true)
 }
 
 /// The bow changes a player drops ("hooks": plays two strokes in one bow) so that a bar
