@@ -67,17 +67,15 @@ impl Timeline {
     /// hooks.
     pub fn hook_to_downbeats(&mut self, may_hook: impl FnMut(usize) -> bool) -> usize {
         let notes: Vec<Note> = self.notes.iter().map(|n| n.note).collect();
+        // The note that starts each stroke, in the order of `bow_changes_s`.
+        let starts: Vec<usize> = (0..self.notes.len())
+            .filter(|&i| self.notes[i].bow_change)
+            .collect();
         let changes = self.bow_changes_s();
         let hooks = crate::hooks_for_downbeats(&changes, &notes, &self.downbeats_s, may_hook);
         for &h in &hooks {
-            let Some(&t) = changes.get(h) else { continue };
-            let Some(j) = self
-                .notes
-                .iter()
-                .position(|n| n.bow_change && n.note.onset_s == t)
-            else {
-                continue;
-            };
+            let Some(&j) = starts.get(h) else { continue };
+            let t = self.notes[j].note.onset_s;
             self.notes[j].bow_change = false;
             if let Some(prev) = j.checked_sub(1).and_then(|p| self.notes.get_mut(p)) {
                 prev.note.offset_s = prev.note.offset_s.max(t);
