@@ -98,8 +98,8 @@ pub fn tune_direction_decoder(cases: &[DirectionCase]) -> (Option<DirectionDecod
     for net_weight in [0.0f32, 0.25, 0.5, 1.0, 2.0, 4.0] {
         for rule_weight in [0.0f32, 0.25, 0.5, 1.0] {
             for stay_probability in [0.02f32, 0.05, 0.1, 0.2] {
-                for downbeat_weight in [0.0f32, 1.0, 2.0, 3.0] {
-                    for beat_weight in [0.0f32, 0.3] {
+                for downbeat_weight in [0.0f32, 1.0, 2.0, 3.0, 4.0] {
+                    for beat_weight in [0.0f32, 0.3, 0.6, 1.0] {
                         let d = DirectionDecoder {
                             net_weight,
                             rule_weight,
