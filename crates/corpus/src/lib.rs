@@ -13,6 +13,11 @@
 //! 4. written to disk ([`layout`], [`manifest`]) with ground-truth motion from
 //!    `motion-synth`, and summarised ([`stats`]).
 //!
+//! The many-violin corpus of real repertoire (`--renderer many`) plays written scores
+//! ([`score`], [`repertoire`]) with human timing ([`perform::perform`]) and bowing as
+//! violinists plan it (strokes hooked so that most bars start down-bow,
+//! [`perform::hook_to_downbeats`]), through seven violin sources and simulated rooms.
+//!
 //! The trackers' tests and benches take their labelled audio from here ([`item::make_item`]
 //! with [`render::BowedStringSynth`]) and score pitch against [`reference::reference_f0`].
 //!
