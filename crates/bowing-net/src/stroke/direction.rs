@@ -1,16 +1,23 @@
-//! Stroke directions from the network's down-bow output and the bowing rules, decoded as
-//! one consistent sequence.
+//! Stroke directions from the network's down-bow output, the bars and the bowing rules,
+//! decoded as one consistent sequence.
 //!
 //! A two-state (down, up) hidden Markov model over the strokes: the direction flips at a
 //! bow change, except with probability [`DirectionDecoder::stay_probability`] (a missed
-//! change between two detected strokes, or a retake); each stroke's evidence is the
-//! network's mean down-bow log-odds over the stroke's frames, weighted by
-//! [`DirectionDecoder::net_weight`], plus [`DirectionDecoder::rule_weight`] for the
-//! direction the bowing rules give it (`performance::heard_bow_directions`: a pickup
-//! up-bow, a retake to down-bow after a rest, a down-bow on a downbeat). Viterbi finds the
-//! most probable sequence, so one clear long stroke sets the direction of the short ones
-//! around it, and a missed change does not flip the rest of the phrase. The weights are chosen on validation data and
-//! stored with the network's weights.
+//! change between two detected strokes, or a retake). Each stroke's evidence for a
+//! direction adds up
+//!
+//! * the network's mean down-bow log-odds over the stroke's frames, weighted by
+//!   [`DirectionDecoder::net_weight`];
+//! * [`DirectionDecoder::rule_weight`] for the direction the bowing rules give it
+//!   (`performance::heard_bow_directions`: a pickup up-bow, a retake to down-bow after a
+//!   rest, a down-bow on a downbeat);
+//! * for a down-bow, [`DirectionDecoder::downbeat_weight`] or
+//!   [`DirectionDecoder::beat_weight`] when the stroke starts on a decoded downbeat or beat
+//!   ([`beat_places`]): players plan their bowing so that bars start down-bow.
+//!
+//! Viterbi finds the most probable sequence, so the bars put the bow back in phase after a
+//! missed change instead of letting it flip the rest of the piece. The weights are chosen
+//! on validation data and stored with the network's weights.
 
 use performance::BowDirection;
 use serde::{Deserialize, Serialize};
