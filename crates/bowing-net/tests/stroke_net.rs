@@ -161,6 +161,19 @@ fn the_direction_decoder_travels_with_the_weights_and_uses_the_down_output() {
     d.set_direction_decoder(Some(decoder));
     let back = StrokeDetector::from_bytes(&d.to_bytes().unwrap(), Path::new("w")).unwrap();
     assert_eq!(back.direction_decoder(), Some(decoder));
+    // A file whose direction decoder is nonsense is refused, naming the field.
+    let mut bad = detector();
+    bad.set_direction_decoder(Some(DirectionDecoder {
+        stay_probability: 1.5,
+        ..decoder
+    }));
+    let err = StrokeDetector::from_bytes(&bad.to_bytes().unwrap(), Path::new("w.safetensors"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("stay_probability") && err.contains("w.safetensors"),
+        "{err}"
+    );
     // Two one-second strokes; the network hears the first as an up-bow, the second as a
     // down-bow, against the rules' down-up.
     let notes = [Note::new(0.0, 1.0, 67), Note::new(1.0, 2.0, 69)];

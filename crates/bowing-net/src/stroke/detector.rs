@@ -143,10 +143,14 @@ impl StrokeDetector {
             Some(_) => Some(file.meta_json(KEY_ENSEMBLE_DECODER, path)?),
             None => None,
         };
-        let direction_decoder = match file.metadata.get(KEY_DIRECTION_DECODER) {
-            Some(_) => Some(file.meta_json(KEY_DIRECTION_DECODER, path)?),
-            None => None,
-        };
+        let direction_decoder: Option<DirectionDecoder> =
+            match file.metadata.get(KEY_DIRECTION_DECODER) {
+                Some(_) => Some(file.meta_json(KEY_DIRECTION_DECODER, path)?),
+                None => None,
+            };
+        if let Some(d) = &direction_decoder {
+            d.validate().map_err(|e| NetError::weights(path, e))?;
+        }
         let mut d = Self::from_tensors(&cfg, tensors, decoder, training)?;
         d.ensemble_decoder = ensemble_decoder;
         d.direction_decoder = direction_decoder;

@@ -118,6 +118,36 @@ fn log_sigmoid(x: f32) -> f32 {
 }
 
 impl DirectionDecoder {
+    /// Checks that every weight is finite and the stay probability lies strictly between
+    /// 0 and 1 (a weights file could carry anything).
+    ///
+    /// ```
+    /// use bowing_net::stroke::direction::DirectionDecoder;
+    /// assert!(DirectionDecoder::default().validate().is_ok());
+    /// let bad = DirectionDecoder { stay_probability: 1.5, ..Default::default() };
+    /// assert!(bad.validate().unwrap_err().contains("stay_probability"));
+    /// ```
+    pub fn validate(&self) -> Result<(), String> {
+        let weights = [
+            ("net_weight", self.net_weight),
+            ("rule_weight", self.rule_weight),
+            ("downbeat_weight", self.downbeat_weight),
+            ("beat_weight", self.beat_weight),
+        ];
+        if let Some((name, v)) = weights.iter().find(|(_, v)| !v.is_finite()) {
+            return Err(format!(
+                "direction decoder: {name} is {v}, not a finite number"
+            ));
+        }
+        if !(self.stay_probability > 0.0 && self.stay_probability < 1.0) {
+            return Err(format!(
+                "direction decoder: stay_probability is {}, not strictly between 0 and 1",
+                self.stay_probability
+            ));
+        }
+        Ok(())
+    }
+
     /// The directions of strokes with mean down-bow log-odds `evidence` (one per stroke,
     /// [`mean_log_odds`]), the rules' directions `rules` (same length; extra entries of
     /// either are ignored) and where each stroke starts in the bar, `places` (missing
