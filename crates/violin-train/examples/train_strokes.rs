@@ -7,7 +7,11 @@
 //! cargo run --release -p violin-train --example train_strokes -- CORPUS OUT.safetensors [EPOCHS]
 //! cargo run --release -p violin-train --example train_strokes -- CORPUS OUT.safetensors EPOCHS --init W.safetensors --lr 5e-4 --seed 2 [--direction-weight 2]
 //! cargo run --release -p violin-train --example train_strokes -- CORPUS --eval W.safetensors [--write-ensemble]
+//! cargo run --release -p violin-train --example train_strokes -- CORPUS OUT.safetensors EPOCHS --val-violin waveguide
 //! ```
+//!
+//! `--val-violin NAME` moves the training items of one violin source into validation, so the
+//! network never hears that violin and validation measures what a new violin costs.
 //!
 //! After training (or with `--write-ensemble`), the decoder of the mean of the CNN's and the
 //! stroke network's change probabilities is tuned on the validation split and stored in the
@@ -41,7 +45,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let corpus = PathBuf::from(corpus);
     let started = std::time::Instant::now();
-    let data = load_dataset(&corpus, &|_, _| {})?;
+    let mut data = load_dataset(&corpus, &|_, _| {})?;
+    let val_violin = args
+        .iter()
+        .position(|a| a == "--val-violin")
+        .and_then(|i| args.get(i + 1))
+        .cloned();
+    if let Some(violin) = &val_violin {
+        move_violin_to_validation(&corpus, violin, &mut data)?;
+    }
     eprintln!(
         "loaded {} train / {} val / {} test recordings in {:.0} s",
         data.train.len(),
@@ -102,7 +114,43 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         );
         out
     };
-    report(&corpus, &data.val, &data.test, &weights, write_ensemble)
+    report(
+        &corpus,
+        &data.val,
+        &data.test,
+        &weights,
+        write_ensemble,
+        val_violin.as_deref(),
+    )
+}
+
+/// Moves the training items played by `violin` into the validation set, so that the
+/// network never trains on that violin and validation sees how a new violin fares.
+fn move_violin_to_validation(
+    corpus: &std::path::Path,
+    violin: &str,
+    data: &mut bowing_net::data::Splits,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let manifest = read_manifest(corpus)?;
+    let played_by: std::collections::BTreeSet<&str> = manifest
+        .items
+        .iter()
+        .filter(|i| i.violin == violin)
+        .map(|i| i.dir.as_str())
+        .collect();
+    if played_by.is_empty() {
+        return Err(format!("{}: no item is played by violin {violin}", corpus.display()).into());
+    }
+    let (moved, kept): (Vec<Recording>, Vec<Recording>) = std::mem::take(&mut data.train)
+        .into_iter()
+        .partition(|r| played_by.contains(r.name.as_str()));
+    data.train = kept;
+    eprintln!(
+        "validation violin {violin}: {} training items moved to validation",
+        moved.len()
+    );
+    data.val.extend(moved);
+    Ok(())
 }
 
 /// The mean of the CNN's and the stroke network's change probabilities.
@@ -122,6 +170,7 @@ fn report(
     test: &[Recording],
     weights: &std::path::Path,
     write_ensemble: bool,
+    val_violin: Option<&str>,
 ) -> Result<(), Box<dyn std::error::Error>> {
     let manifest = read_manifest(corpus)?;
     let info: BTreeMap<&str, (String, &str)> = manifest
@@ -168,6 +217,24 @@ fn report(
         None => (tuned, tuned_f1),
     };
     eprintln!("ensemble decoder {ensemble_decoder:?}, validation F1 {ensemble_val_f1:.3}");
+    if let Some(violin) = val_violin {
+        for (label, mine) in [(violin.to_string(), true), (format!("not {violin}"), false)] {
+            let (probs, recs): (Vec<Vec<f32>>, Vec<Recording>) = val_probs
+                .iter()
+                .zip(val)
+                .filter(|(_, r)| {
+                    info.get(r.name.as_str())
+                        .is_some_and(|(_, v)| (*v == violin) == mine)
+                })
+                .map(|(p, r)| (p.clone(), r.clone()))
+                .unzip();
+            eprintln!(
+                "validation items played by {label}: {}, ensemble F1 {:.3}",
+                recs.len(),
+                bowing_net::metrics::decoder_f1(&probs, &recs, &ensemble_decoder)
+            );
+        }
+    }
     if write_ensemble {
         strokes.set_ensemble_decoder(Some(ensemble_decoder));
         strokes.save(weights)?;
