@@ -217,9 +217,6 @@ impl Pipeline {
         plan_notes(self.planner, &self.style, &self.sul, notes)
     }
 
-    /// The MIDI reading options.
-    #[cfg(feature = "midi")]
-    /// The longest input accepted ([`PipelineBuilder::max_duration_s`]), if any.
     /// Whether the bowing model decodes stroke directions from the audio (its weights
     /// carry a direction decoder).
     pub(crate) fn hears_directions(&self) -> Result<bool> {
@@ -230,10 +227,13 @@ impl Pipeline {
             .is_some())
     }
 
+    /// The longest input accepted ([`PipelineBuilder::max_duration_s`]), if any.
     pub(crate) fn max_duration(&self) -> Option<f64> {
         self.max_duration_s.map(f64::from)
     }
 
+    /// The MIDI reading options.
+    #[cfg(feature = "midi")]
     pub(crate) fn midi_options(&self) -> performance::midi::MidiOptions {
         let defaults = performance::midi::MidiOptions::default();
         performance::midi::MidiOptions {

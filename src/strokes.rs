@@ -1,9 +1,10 @@
 //! The strokes of an analysis: one per bow change, with its direction (the bowing rules for
 //! heard strokes, [`performance::heard_bow_directions`]: alternation, a pickup up-bow, a
-//! retake to down-bow after a rest, a down-bow on every downbeat; decoded together with the stroke network's down-bow output when its weights
-//! carry a direction decoder: `StrokeAnalysis::directions`) and the string the stroke
-//! network heard (the string of the stroke's first note by the fingering when the model
-//! gives no strings, as the CNN does).
+//! retake to down-bow after a rest, a down-bow on every downbeat; decoded together with
+//! the stroke network's down-bow output and the bars when its weights carry a direction
+//! decoder: `StrokeAnalysis::directions`) and the string the stroke network heard (the
+//! string of the stroke's first note by the fingering when the model gives no strings, as
+//! the CNN does).
 
 use bowing_net::stroke::StrokeAnalysis;
 use performance::{strokes_of, BowDirection, BowStroke, Note};

@@ -29,8 +29,9 @@ use bowing_net::stroke::train::{train_strokes, StrokeTrainConfig};
 use bowing_net::stroke::StrokeDetector;
 use bowing_net::{BowChangeDetector, BowingModel};
 use violin_train::bowing_data::{load_dataset, read_manifest};
+use violin_train::evaluate::Tally;
 use violin_train::stroke_directions::{
-    direction_accuracy, direction_case, pooled_accuracy, tune_direction_decoder,
+    direction_accuracy, direction_case, pooled_accuracy, tune_direction_decoder, DirectionCase,
 };
 
 /// The validation F1 a re-tuned ensemble decoder must gain over the stored one to replace
@@ -292,12 +293,11 @@ fn report(
                 .map(|t| (t * 30.0).round() as usize)
                 .collect();
             row.ensemble.add(&match_events(&frames, &r.changes, 2));
-            extra_scores(corpus, r, &strokes, &pipeline, &mut row)?;
             let audio = dsp_mel::load_audio(corpus::layout::item_audio(&corpus.join(&r.name)))?;
             let case = direction_case(r, &audio, &model, &pipeline)?;
-            let (right, total) = direction_accuracy(&case, direction_decoder);
-            row.direction_net.0 += right;
-            row.direction_net.1 += total;
+            extra_scores(corpus, r, &strokes, &case, &mut row)?;
+            row.direction_net
+                .add(&direction_accuracy(&case, direction_decoder));
         }
         Ok(row)
     };
@@ -335,42 +335,40 @@ struct Row {
     cnn: Counts,
     ensemble: Counts,
     strokes: StrokeScores,
-    direction_tracked: (usize, usize),
-    direction_true: (usize, usize),
-    direction_net: (usize, usize),
-    planner_strings: (usize, usize),
+    direction_tracked: Tally,
+    direction_true: Tally,
+    direction_net: Tally,
+    planner_strings: Tally,
 }
 
 impl Row {
     fn cells(&self) -> String {
-        let r = |(a, b): (usize, usize)| a as f64 / b.max(1) as f64;
         format!(
             "{:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3}",
             self.cnn.f1(),
             self.strokes.change_f1(),
             self.ensemble.f1(),
-            r(self.direction_tracked),
-            r(self.direction_true),
-            r(self.direction_net),
+            self.direction_tracked.share(),
+            self.direction_true.share(),
+            self.direction_net.share(),
             self.strokes.string_accuracy(),
-            r(self.planner_strings)
+            self.planner_strings.share()
         )
     }
 }
 
 /// Stroke directions by the bowing rules over the network's changes (with tracked and with
-/// true downbeats), and the fingering planner's string per frame, for one test item.
+/// true downbeats), and the fingering planner's string per frame, for one test item whose
+/// analysis `case` already holds.
 fn extra_scores(
     corpus: &std::path::Path,
     r: &Recording,
     strokes: &StrokeDetector,
-    pipeline: &violin_skeleton::Pipeline,
+    case: &DirectionCase,
     row: &mut Row,
 ) -> Result<(), Box<dyn std::error::Error>> {
     use performance::{heard_bow_directions, strokes_of, Note};
     let dir = corpus.join(&r.name);
-    let audio = dsp_mel::load_audio(corpus::layout::item_audio(&dir))?;
-    let analysis = pipeline.analyze(&audio)?;
     let found = strokes.analyze_mel(r.mel_db.view())?;
     // Notes that only say when something sounds: the played stretches cut at the changes.
     let mut notes = Vec::new();
@@ -384,30 +382,30 @@ fn extra_scores(
     }
     let truth_downbeats = violin_train::bowing_data::read_times(&dir.join("downbeats.txt"))?;
     for (downbeats, counts) in [
-        (&analysis.downbeats_s, &mut row.direction_tracked),
+        (&case.downbeats_s, &mut row.direction_tracked),
         (&truth_downbeats, &mut row.direction_true),
     ] {
         let dirs = heard_bow_directions(&found.bow_changes_s, &notes, downbeats);
         let predicted = strokes_of(&found.bow_changes_s, &dirs, &notes);
-        let t = violin_train::evaluate::direction_tally(&r.strokes, &predicted);
-        counts.0 += t.right;
-        counts.1 += t.total;
+        counts.add(&violin_train::evaluate::direction_tally(
+            &r.strokes, &predicted,
+        ));
     }
     for (f, &string) in r.strings.iter().enumerate() {
         if !(1..=4).contains(&string) {
             continue;
         }
         let t = f as f64 / 30.0;
-        row.planner_strings.1 += 1;
-        let i = analysis.notes.partition_point(|n| n.onset_s <= t);
+        row.planner_strings.total += 1;
+        let i = case.notes.partition_point(|n| n.onset_s <= t);
         let planned = i
             .checked_sub(1)
-            .and_then(|i| analysis.notes.get(i))
+            .and_then(|i| case.notes.get(i))
             .filter(|n| t < n.offset_s)
             .and_then(|n| n.fingering)
             .map(|f| f.string.number());
         if planned == Some(string) {
-            row.planner_strings.0 += 1;
+            row.planner_strings.right += 1;
         }
     }
     Ok(())

@@ -11,7 +11,7 @@ use bowing_net::stroke::direction::DirectionDecoder;
 use bowing_net::BowingModel;
 use performance::{strokes_of, BowStroke, Note};
 
-use crate::evaluate::direction_tally;
+use crate::evaluate::{direction_tally, Tally};
 use crate::Result;
 
 /// One labelled item, analysed once: everything the direction decoding reads.
@@ -56,12 +56,9 @@ pub fn direction_case(
     })
 }
 
-/// (labelled strokes whose direction the decoding gets right, labelled strokes) with
+/// Labelled strokes whose direction the decoding gets right, out of all labelled strokes, with
 /// `decoder` (`None`: the bowing rules alone).
-pub fn direction_accuracy(
-    case: &DirectionCase,
-    decoder: Option<DirectionDecoder>,
-) -> (usize, usize) {
+pub fn direction_accuracy(case: &DirectionCase, decoder: Option<DirectionDecoder>) -> Tally {
     let mut bowed = case.bowed.clone();
     bowed.direction_decoder = decoder;
     let dirs = bowed.directions(
@@ -71,23 +68,16 @@ pub fn direction_accuracy(
         &case.downbeats_s,
     );
     let predicted = strokes_of(&case.bow_changes_s, &dirs, &case.notes);
-    let t = direction_tally(&case.truth, &predicted);
-    (t.right, t.total)
+    direction_tally(&case.truth, &predicted)
 }
 
 /// Pooled accuracy over `cases`.
 pub fn pooled_accuracy(cases: &[DirectionCase], decoder: Option<DirectionDecoder>) -> f64 {
-    let (mut right, mut total) = (0, 0);
+    let mut pooled = Tally::default();
     for c in cases {
-        let (r, t) = direction_accuracy(c, decoder);
-        right += r;
-        total += t;
+        pooled.add(&direction_accuracy(c, decoder));
     }
-    if total == 0 {
-        0.0
-    } else {
-        right as f64 / total as f64
-    }
+    pooled.share()
 }
 
 /// The decoder with the best pooled accuracy on `cases` (validation items only) over a
