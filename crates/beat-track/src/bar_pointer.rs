@@ -42,18 +42,34 @@ pub struct BarPointerConfig {
     pub max_bpm: f64,
     /// The bar lengths (beats per bar) to try.
     pub beats_per_bar: Vec<usize>,
+    /// The activations are linearly interpolated to this many times `fps` before decoding
+    /// (1 = not at all): at 30 fps a beat at 180 bpm is 10 frames, so the tempo can only
+    /// move in 10 % steps and every step pays the tempo-change penalty; a finer grid lets
+    /// fast beats be followed.
+    pub upsample: usize,
+    /// At most this many tempi (beat intervals log-spaced over the range, as madmom's
+    /// `num_tempi`); 0 = every whole number of (upsampled) frames in the range.
+    pub max_tempi: usize,
     /// Tempo-change penalty at beat boundaries (madmom's `transition_lambda`).
     pub transition_lambda: f64,
     /// One beat in this many frames of a beat period observes a beat (madmom's
     /// `observation_lambda`).
     pub observation_lambda: f64,
+    /// At most this many seconds of a beat observe a beat (0 = no limit): without a limit
+    /// a slow beat's observing region is wider than an activation peak, which favours
+    /// decoding twice the tempo.
+    pub max_beat_region_s: f64,
+    /// Beat and downbeat activations below this are read as this much (the "no beat"
+    /// one is not floored): with a fixed-width observing region a beat in silence would
+    /// otherwise cost so much that the slowest tempo wins across a long silent gap.
+    pub observation_floor: f32,
     /// Beats with no frame of beat activation ≥ `gate` within `gate_window_s` are dropped.
     pub gate: f32,
     /// Half-width of the gate's window in seconds.
     pub gate_window_s: f64,
     /// Below this confidence no beats are returned.
     pub min_confidence: f32,
-    /// Log-probability per frame added to each bar length's path (same order as
+    /// Log-probability per decoded frame (at `fps · upsample`) added to each bar length's path (same order as
     /// `beats_per_bar`; empty = none) before the most likely bar length is taken: a prior
     /// over metres that grows with the recording, as the paths' own log-probabilities do.
     pub bar_length_prior_per_frame: Vec<f64>,
@@ -65,11 +81,18 @@ impl Default for BarPointerConfig {
             fps: 30.0,
             min_bpm: 38.0,
             max_bpm: 215.0,
+            // Chosen on the corpus's validation split (violin-train's `tune_beats`
+            // example, corpus-hook): against 30 fps with every interval, no region limit,
+            // λ 60/6, beat F .775 → .820, tempo ±8 % .654 → .750, double tempo .125 → .038.
+            upsample: 2,
+            max_tempi: 40,
             beats_per_bar: vec![1, 2, 3, 4],
             // Chosen on the corpus's validation split with beat-net's activations
             // (violin-train's `tune_beats` example); madmom uses 100 and 16 at 100 fps.
-            transition_lambda: 60.0,
-            observation_lambda: 6.0,
+            transition_lambda: 100.0,
+            observation_lambda: 8.0,
+            max_beat_region_s: 0.05,
+            observation_floor: 0.003,
             gate: 0.1,
             gate_window_s: 1.5,
             min_confidence: 0.1,
@@ -82,11 +105,39 @@ impl Default for BarPointerConfig {
 }
 
 impl BarPointerConfig {
-    /// The beat intervals (frames) of the tempo range.
+    /// The beat intervals (frames at the decoding rate, `fps · upsample`) of the tempo
+    /// range: every whole number of frames, or `max_tempi` of them log-spaced.
     pub fn intervals(&self) -> Vec<usize> {
-        let lo = ((60.0 * self.fps / self.max_bpm).floor() as usize).max(1);
-        let hi = ((60.0 * self.fps / self.min_bpm).ceil() as usize).max(lo);
-        (lo..=hi).collect()
+        let fps = self.fps * self.upsample.max(1) as f64;
+        let lo = ((60.0 * fps / self.max_bpm).floor() as usize).max(1);
+        let hi = ((60.0 * fps / self.min_bpm).ceil() as usize).max(lo);
+        if self.max_tempi == 0 || self.max_tempi > hi - lo {
+            return (lo..=hi).collect();
+        }
+        let (a, b) = ((lo as f64).ln(), (hi as f64).ln());
+        let steps = self.max_tempi.max(2) - 1;
+        let mut out: Vec<usize> = (0..=steps)
+            .map(|k| (a + (b - a) * k as f64 / steps as f64).exp().round() as usize)
+            .collect();
+        out.dedup();
+        out
+    }
+
+    /// Frames of a beat that observe a beat, per interval of `intervals`.
+    fn region(&self, intervals: &[usize]) -> Vec<usize> {
+        let cap = if self.max_beat_region_s > 0.0 {
+            ((self.max_beat_region_s * self.fps * self.upsample as f64).round() as usize).max(1)
+        } else {
+            usize::MAX
+        };
+        intervals
+            .iter()
+            .map(|&i| {
+                ((i as f64 / self.observation_lambda).round() as usize)
+                    .clamp(1, i)
+                    .min(cap)
+            })
+            .collect()
     }
 
     fn check(&self) -> Result<()> {
@@ -96,6 +147,9 @@ impl BarPointerConfig {
         }
         if !(self.min_bpm > 0.0 && self.max_bpm >= self.min_bpm && self.max_bpm.is_finite()) {
             return bad("need 0 < min_bpm ≤ max_bpm");
+        }
+        if self.upsample == 0 || self.upsample > 8 {
+            return bad("upsample must be 1 to 8");
         }
         if self.intervals().len() > usize::from(u16::MAX) {
             return bad("the tempo range has too many beat intervals");
@@ -114,6 +168,12 @@ impl BarPointerConfig {
         }
         if !(self.transition_lambda >= 0.0 && self.observation_lambda >= 1.0) {
             return bad("transition_lambda must be ≥ 0 and observation_lambda ≥ 1");
+        }
+        if !(0.0..1.0).contains(&self.observation_floor) {
+            return bad("observation_floor must be in 0–1");
+        }
+        if !(self.max_beat_region_s >= 0.0 && self.max_beat_region_s.is_finite()) {
+            return bad("max_beat_region_s must be ≥ 0 (0 = no limit)");
         }
         Ok(())
     }
@@ -163,7 +223,7 @@ pub fn decode(beat: &[f32], downbeat: &[f32], cfg: &BarPointerConfig) -> Result<
             "value {i} is not a probability in 0–1"
         )));
     }
-    let mut empty = BarPointerBeats {
+    let empty = BarPointerBeats {
         beats_s: Vec::new(),
         downbeats_s: Vec::new(),
         beats_per_bar: cfg.beats_per_bar[0],
@@ -175,14 +235,47 @@ pub fn decode(beat: &[f32], downbeat: &[f32], cfg: &BarPointerConfig) -> Result<
     if beat.len() < 2 {
         return Ok(empty);
     }
+    if cfg.upsample > 1 {
+        let dec = BarPointerConfig {
+            fps: cfg.fps * cfg.upsample as f64,
+            upsample: 1,
+            ..cfg.clone()
+        };
+        let (b, d) = (
+            interpolate(beat, cfg.upsample),
+            interpolate(downbeat, cfg.upsample),
+        );
+        return Ok(decode_at_rate(&b, &d, &dec, empty));
+    }
+    Ok(decode_at_rate(beat, downbeat, cfg, empty))
+}
+
+/// `v` linearly interpolated to `k` values per value (the last one held).
+fn interpolate(v: &[f32], k: usize) -> Vec<f32> {
+    let mut out = Vec::with_capacity(v.len() * k);
+    for (i, &a) in v.iter().enumerate() {
+        let b = v.get(i + 1).copied().unwrap_or(a);
+        out.extend((0..k).map(|j| a + (b - a) * j as f32 / k as f32));
+    }
+    out
+}
+
+/// [`decode`] on checked activations at the decoding rate `cfg.fps` (`cfg.upsample` 1).
+fn decode_at_rate(
+    beat: &[f32],
+    downbeat: &[f32],
+    cfg: &BarPointerConfig,
+    mut empty: BarPointerBeats,
+) -> BarPointerBeats {
     let none_scale = 1.0 / (cfg.observation_lambda as f32 - 1.0).max(1.0);
+    let floor = cfg.observation_floor.max(EPS);
     let obs: Vec<FrameObservation> = beat
         .iter()
         .zip(downbeat)
         .map(|(&b, &d)| FrameObservation {
             none: ((1.0 - b - d).max(EPS) * none_scale).ln(),
-            beat: b.max(EPS).ln(),
-            downbeat: d.max(EPS).ln(),
+            beat: b.max(floor).ln(),
+            downbeat: d.max(floor).ln(),
         })
         .collect();
     let intervals = cfg.intervals();
@@ -190,8 +283,13 @@ pub fn decode(beat: &[f32], downbeat: &[f32], cfg: &BarPointerConfig) -> Result<
         .beats_per_bar
         .iter()
         .map(|&n| {
-            BarStateSpace::new(n, &intervals, cfg.transition_lambda, cfg.observation_lambda)
-                .viterbi(&obs)
+            BarStateSpace::new(
+                n,
+                &intervals,
+                cfg.transition_lambda,
+                &cfg.region(&intervals),
+            )
+            .viterbi(&obs)
         })
         .collect();
     let log_probability: Vec<f64> = decoded.iter().map(|d| d.0).collect();
@@ -211,7 +309,7 @@ pub fn decode(beat: &[f32], downbeat: &[f32], cfg: &BarPointerConfig) -> Result<
     empty.beats_per_bar = cfg.beats_per_bar[best];
     empty.log_probability = log_probability;
     let any: Vec<f32> = beat.iter().zip(downbeat).map(|(b, d)| b + d).collect();
-    Ok(finish(&decoded[best].1, &any, cfg, empty))
+    finish(&decoded[best].1, &any, cfg, empty)
 }
 
 /// Beats of a decoded path, gated, refined to the activation peak and measured.

@@ -48,12 +48,13 @@ pub(crate) struct BarStateSpace {
 
 impl BarStateSpace {
     /// The space for `beats` beats per bar and beat intervals `intervals` (frames, sorted,
-    /// each ≥ 1).
+    /// each ≥ 1), of which the first `region[q]` frames of a beat at interval q observe a
+    /// beat (each in 1..=interval).
     pub(crate) fn new(
         beats: usize,
         intervals: &[usize],
         transition_lambda: f64,
-        observation_lambda: f64,
+        region: &[usize],
     ) -> Self {
         let mut offsets = Vec::with_capacity(intervals.len() * beats);
         let mut states = 0;
@@ -63,10 +64,6 @@ impl BarStateSpace {
                 states += i;
             }
         }
-        let region = intervals
-            .iter()
-            .map(|&i| ((i as f64 / observation_lambda).round() as usize).clamp(1, i))
-            .collect();
         // exp(−λ|to/from − 1|), normalised over `to` for every `from`.
         let mut incoming = vec![Vec::new(); intervals.len()];
         for (qf, &from) in intervals.iter().enumerate() {
@@ -88,7 +85,7 @@ impl BarStateSpace {
             beats,
             intervals: intervals.to_vec(),
             offsets,
-            region,
+            region: region.to_vec(),
             incoming,
             states,
         }

@@ -153,7 +153,8 @@ fn short_inputs_and_a_long_gap() {
         "{:?}",
         out.beats_s
     );
-    assert!(beat_prf(&beats, &out.beats_s, 0.07).f_measure > 0.9);
+    let f = beat_prf(&beats, &out.beats_s, 0.07);
+    assert!(f.f_measure > 0.9, "{f:?} {:?}", out.beats_s);
 }
 
 #[test]
@@ -207,4 +208,64 @@ fn the_bar_length_prior_is_checked_and_can_tip_the_metre() {
         ..Default::default()
     };
     assert!(decode(&beat, &down, &not_finite).is_err());
+}
+
+#[test]
+fn a_slow_beat_with_a_pulse_between_is_not_doubled() {
+    // Without the 0.05 s observing region and the finer decoding grid, these were
+    // decoded at twice the tempo (90 and 109 bpm).
+    for bpm in [45.0f64, 55.0] {
+        let mut beats = Vec::new();
+        let mut t: f64 = 0.5;
+        while t < 60.0 {
+            beats.push(t);
+            t += 60.0 / bpm * (1.0 + 0.03 * (t / 7.0).sin());
+        }
+        let (mut b, mut d) = activations(&beats, 2, 1800);
+        for v in b.iter_mut().chain(d.iter_mut()) {
+            *v = v.min(0.5);
+        }
+        // An eighth-note pulse between the beats, weaker than the beats.
+        for w in beats.windows(2) {
+            let f = ((w[0] + w[1]) * FPS / 2.0).round() as usize;
+            b[f] = b[f].max(0.2);
+        }
+        let out = decode(&b, &d, &BarPointerConfig::default()).unwrap();
+        assert!(
+            (out.tempo_bpm / bpm - 1.0).abs() < 0.08,
+            "{bpm}: {}",
+            out.tempo_bpm
+        );
+        assert!(beat_prf(&beats, &out.beats_s, 0.07).f_measure > 0.95);
+    }
+}
+
+#[test]
+fn the_decoding_grid_is_checked() {
+    for bad in [
+        BarPointerConfig {
+            upsample: 0,
+            ..Default::default()
+        },
+        BarPointerConfig {
+            observation_floor: 1.0,
+            ..Default::default()
+        },
+        BarPointerConfig {
+            max_beat_region_s: f64::NAN,
+            ..Default::default()
+        },
+    ] {
+        assert!(decode(&[0.1; 10], &[0.1; 10], &bad).is_err(), "{bad:?}");
+    }
+    let cfg = BarPointerConfig::default();
+    let intervals = cfg.intervals();
+    assert!(intervals.len() <= cfg.max_tempi);
+    assert!(intervals.windows(2).all(|w| w[0] < w[1]));
+    // Slowest and fastest tempo at the decoding rate (30 fps × 2).
+    assert_eq!(intervals[0], (60.0 * 60.0 / cfg.max_bpm).floor() as usize);
+    assert_eq!(
+        *intervals.last().unwrap(),
+        (60.0 * 60.0 / cfg.min_bpm).ceil() as usize
+    );
 }

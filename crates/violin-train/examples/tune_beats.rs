@@ -55,41 +55,61 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         });
     }
     println!("{} validation items", items.len());
-    println!("lambda_t lambda_o   beat_F  down_F  meter  tempo  octave");
-    for transition_lambda in [30.0, 60.0, 100.0] {
-        for observation_lambda in [4.0, 6.0, 8.0, 16.0] {
-            let cfg = BarPointerConfig {
-                transition_lambda,
-                observation_lambda,
-                ..Default::default()
-            };
-            let (mut bf, mut df, mut meter, mut tempo, mut octave) = (0.0, 0.0, 0, 0, 0);
-            for it in &items {
-                let out = decode(&it.act.beat, &it.act.downbeat, &cfg)?;
-                let tr = |v: &[f64]| trim_beats(v, 5.0);
-                bf += beat_prf(&tr(&it.beats), &tr(&out.beats_s), 0.07).f_measure;
-                df += beat_prf(&tr(&it.downbeats), &tr(&out.downbeats_s), 0.07).f_measure;
-                meter += usize::from(
-                    it.bar == Some(out.beats_per_bar as u64) && !out.beats_s.is_empty(),
-                );
-                if let Some(t) = it.tempo {
-                    let near = |x: f64| (out.tempo_bpm / x - 1.0).abs() <= 0.08;
-                    tempo += usize::from(near(t));
-                    octave += usize::from(near(2.0 * t) || near(0.5 * t));
+    println!("up tempi floor lambda_t lambda_o cap_s   beat_F  down_F  meter  tempo  double  half");
+    for (upsample, max_tempi, observation_floor) in [
+        (1usize, 0usize, 0.0f32),
+        (2, 40, 0.0),
+        (2, 40, 0.003),
+        (2, 40, 0.01),
+        (2, 40, 0.03),
+    ] {
+        for transition_lambda in [60.0, 100.0, 150.0] {
+            for observation_lambda in [6.0, 8.0] {
+                for max_beat_region_s in [0.0, 0.05] {
+                    let base = BarPointerConfig::default();
+                    let cfg = BarPointerConfig {
+                        upsample,
+                        max_tempi,
+                        transition_lambda,
+                        observation_lambda,
+                        max_beat_region_s,
+                        observation_floor,
+                        ..base
+                    };
+                    let t0 = std::time::Instant::now();
+                    let s = score(&items, &cfg)?;
+                    println!(
+                        "{upsample:>2} {max_tempi:>5} {observation_floor:>5} {transition_lambda:>8} {observation_lambda:>8} {max_beat_region_s:>5} {:>8.3} {:>7.3} {:>6.3} {:>6.3} {:>7.3} {:>5.3}  {:.1} s",
+                        s[0], s[1], s[2], s[3], s[4], s[5], t0.elapsed().as_secs_f64()
+                    );
                 }
             }
-            let n = items.len().max(1) as f64;
-            println!(
-                "{transition_lambda:>8} {observation_lambda:>8} {:>8.3} {:>7.3} {:>6.3} {:>6.3} {:>7.3}",
-                bf / n,
-                df / n,
-                meter as f64 / n,
-                tempo as f64 / n,
-                octave as f64 / n
-            );
         }
     }
     tune_prior(&items)
+}
+
+/// Mean beat F, downbeat F, metre, tempo (±8 %), double-tempo and half-tempo shares of
+/// `cfg`.
+fn score(items: &[Item], cfg: &BarPointerConfig) -> Result<[f64; 6], Box<dyn std::error::Error>> {
+    let mut s = [0.0; 6];
+    for it in items {
+        let out = decode(&it.act.beat, &it.act.downbeat, cfg)?;
+        let tr = |v: &[f64]| trim_beats(v, 5.0);
+        s[0] += beat_prf(&tr(&it.beats), &tr(&out.beats_s), 0.07).f_measure;
+        s[1] += beat_prf(&tr(&it.downbeats), &tr(&out.downbeats_s), 0.07).f_measure;
+        s[2] += f64::from(u8::from(
+            it.bar == Some(out.beats_per_bar as u64) && !out.beats_s.is_empty(),
+        ));
+        if let Some(t) = it.tempo {
+            let near = |x: f64| (out.tempo_bpm / x - 1.0).abs() <= 0.08;
+            s[3] += f64::from(u8::from(near(t)));
+            s[4] += f64::from(u8::from(near(2.0 * t)));
+            s[5] += f64::from(u8::from(near(0.5 * t)));
+        }
+    }
+    let n = items.len().max(1) as f64;
+    Ok(s.map(|v| v / n))
 }
 
 /// (beat F, downbeat F, metre accuracy) of the decodings `per_bar[item][bar length]` with
@@ -103,7 +123,7 @@ fn with_prior(items: &[Item], per_bar: &[Vec<BarPointerBeats>], prior: &[f64]) -
                 .first()
                 .copied()
                 .unwrap_or(f64::NEG_INFINITY)
-                + prior[k] * it.frames
+                + prior[k] * it.frames * BarPointerConfig::default().upsample as f64
         };
         let best = (0..decoded.len())
             .max_by(|&a, &b| score(a).total_cmp(&score(b)))
