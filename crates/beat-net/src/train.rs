@@ -16,7 +16,7 @@ use net_core::{set_band_statistics, vars, Adam, AdamConfig, LrSchedule, TrainSta
 use serde::{Deserialize, Serialize};
 
 use crate::activation::{probabilities, BeatActivation};
-use crate::batch::{quiet_crop, random_crop, targets};
+use crate::batch::{quiet_crop, random_crop, shift_bands, targets};
 use crate::data::{Recording, Splits};
 use crate::error::{BeatNetError, Result};
 use crate::features::{EXTRA_FEATURES, FPS};
@@ -55,6 +55,11 @@ pub struct TrainConfig {
     /// or faint stationary noise, every frame "no beat"); 0 draws none and leaves the random
     /// stream as it was without the setting.
     pub quiet_crop_prob: f64,
+    /// A recording's crop moves its mel bands by a whole number of bands drawn from
+    /// −`band_shift`..=`band_shift` (edge bands repeated): a pitch shift of up to a few
+    /// semitones, so the network hears the training works in other keys and registers; 0
+    /// draws nothing and leaves the random stream as it was without the setting.
+    pub band_shift: usize,
     /// Free text stored with the weights (e.g. the data folder).
     pub data_description: String,
 }
@@ -78,6 +83,7 @@ impl Default for TrainConfig {
             steps_per_epoch: None,
             clip_norm: Some(5.0),
             quiet_crop_prob: 0.0,
+            band_shift: 0,
             data_description: String::new(),
         }
     }
@@ -293,13 +299,18 @@ pub fn train(
                     quiet_crop(cfg.crop_frames, f - EXTRA_FEATURES, &mut rng)?
                 } else {
                     let i = rng.weighted(&lengths).unwrap_or(0);
-                    random_crop(
+                    let mut crop = random_crop(
                         &data.train[i],
                         cfg.crop_frames,
                         cfg.stretch,
                         cfg.neighbour_weight,
                         &mut rng,
-                    )
+                    );
+                    if cfg.band_shift > 0 {
+                        let k = cfg.band_shift as i64;
+                        shift_bands(&mut crop.input, f, f - EXTRA_FEATURES, rng.int(-k, k));
+                    }
+                    crop
                 };
                 input.extend_from_slice(&crop.input);
                 classes.extend(crop.targets.classes);

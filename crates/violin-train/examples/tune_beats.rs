@@ -186,5 +186,26 @@ fn tune_prior(items: &[Item]) -> Result<(), Box<dyn std::error::Error>> {
         "prior {prior:?}: beat F {:.3}  downbeat F {:.3}  metre {:.3}",
         s.0, s.1, s.2
     );
+    // The bar length given (the label's, when it is one of those tried): how much of the
+    // downbeat error is the bar length and how much the bar's phase.
+    let (mut bf, mut df, mut m) = (0.0, 0.0, 0usize);
+    for (it, decoded) in items.iter().zip(&per_bar) {
+        let k = base
+            .beats_per_bar
+            .iter()
+            .position(|&n| Some(n as u64) == it.bar);
+        let out = &decoded[k.unwrap_or(0)];
+        let tr = |v: &[f64]| trim_beats(v, 5.0);
+        bf += beat_prf(&tr(&it.beats), &tr(&out.beats_s), 0.07).f_measure;
+        df += beat_prf(&tr(&it.downbeats), &tr(&out.downbeats_s), 0.07).f_measure;
+        m += usize::from(k.is_some());
+    }
+    let n = items.len() as f64;
+    println!(
+        "oracle bar length: beat F {:.3} downbeat F {:.3} metre {:.3}",
+        bf / n,
+        df / n,
+        m as f64 / n
+    );
     Ok(())
 }
