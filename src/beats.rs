@@ -42,9 +42,33 @@ pub(crate) struct Beats {
     pub(crate) confidence: Option<f32>,
 }
 
-/// The learned path: bar-pointer decoding of `act`; compound or simple from the notes.
-pub(crate) fn learned(act: &Activations, notes: &[Note]) -> Result<Beats> {
-    let decoded = bar_pointer::decode(&act.beat, &act.downbeat, &BarPointerConfig::default())?;
+/// Log-bonus for a downbeat within a frame of a detected bow change: bars tend to start
+/// with a new bow. It chooses where bars start, not how long they are
+/// (`bar_pointer::decode_with_downbeat_evidence`). Chosen on the corpus's validation split
+/// (`violin-skeleton evaluate --data corpus-hook --split val`, bonus 0 / 0.5 / 0.75 / 1 /
+/// 1.25 / 1.5 / 2): downbeat F 0.715 / 0.723 / 0.729 / 0.728 / 0.726 / 0.722 / 0.698, stroke
+/// direction 0.673 / 0.682 / 0.688 / 0.689 / 0.689 / 0.689 / 0.689. Weighting it by the
+/// stroke network's down-bow output added nothing (0.725).
+pub(crate) const BOW_CHANGE_DOWNBEAT_BONUS: f32 = 1.0;
+
+/// The learned path: bar-pointer decoding of `act`, the bars phased on the bow changes;
+/// compound or simple from the notes.
+pub(crate) fn learned(act: &Activations, notes: &[Note], bow_changes_s: &[f64]) -> Result<Beats> {
+    let cfg = BarPointerConfig::default();
+    let frames = act.beat.len();
+    let mut evidence = vec![0.0f32; frames];
+    for &c in bow_changes_s {
+        let f = (c * cfg.fps).round();
+        if !(f.is_finite() && f >= 0.0) {
+            continue;
+        }
+        let f = f as usize;
+        for e in evidence.iter_mut().take(f + 2).skip(f.saturating_sub(1)) {
+            *e = BOW_CHANGE_DOWNBEAT_BONUS;
+        }
+    }
+    let decoded =
+        bar_pointer::decode_with_downbeat_evidence(&act.beat, &act.downbeat, &evidence, &cfg)?;
     let onsets: Vec<f64> = notes.iter().map(|n| n.onset_s).collect();
     let meter = (!decoded.beats_s.is_empty()).then(|| Meter {
         beats_per_bar: decoded.beats_per_bar.min(usize::from(u8::MAX)) as u8,
@@ -88,7 +112,7 @@ mod tests {
             beat: vec![0.0; 900],
             downbeat: vec![0.0; 900],
         };
-        let b = learned(&act, &[]).unwrap();
+        let b = learned(&act, &[], &[1.0, 2.0]).unwrap();
         assert!(b.beats_s.is_empty() && b.meter.is_none());
         assert_eq!(b.confidence, Some(0.0));
         assert_eq!("classic".parse::<BeatMethod>(), Ok(BeatMethod::Classic));

@@ -297,7 +297,7 @@ impl Pipeline {
         let bow_changes_s = bowed.bow_changes_s.clone();
         let clock = Instant::now();
         let beats = match &activations {
-            Some(act) => beats::learned(act, &notes)?,
+            Some(act) => beats::learned(act, &notes, &bow_changes_s)?,
             None => beats::classic(samples, &notes, &bow_changes_s)?,
         };
         let beats_s = clock.elapsed().as_secs_f64();

@@ -4,7 +4,7 @@
 //! `cargo bench -p beat-track --bench bar_pointer`
 #![allow(clippy::unwrap_used, clippy::expect_used, missing_docs)]
 
-use beat_track::bar_pointer::{decode, BarPointerConfig};
+use beat_track::bar_pointer::{decode, decode_with_downbeat_evidence, BarPointerConfig};
 use criterion::{criterion_group, criterion_main, Criterion};
 
 fn bench(c: &mut Criterion) {
@@ -27,6 +27,21 @@ fn bench(c: &mut Criterion) {
     group.sample_size(20);
     group.bench_function("decode_bars_1_to_4", |b| {
         b.iter(|| decode(&beat, &down, &cfg).expect("decodes"))
+    });
+    // As the analysis calls it: a bow change on every second beat phases the bars (one
+    // more decoding of the chosen bar length).
+    let mut bows = vec![0.0f32; frames];
+    for (f, _) in beat
+        .iter()
+        .zip(&down)
+        .enumerate()
+        .filter(|(_, (b, d))| b.max(**d) > 0.5)
+        .step_by(2)
+    {
+        bows[f] = 1.0;
+    }
+    group.bench_function("decode_phased_on_bow_changes", |b| {
+        b.iter(|| decode_with_downbeat_evidence(&beat, &down, &bows, &cfg).expect("decodes"))
     });
     group.finish();
 }

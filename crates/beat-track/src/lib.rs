@@ -47,6 +47,7 @@
 
 mod bar_features;
 pub mod bar_pointer;
+mod bar_pointer_config;
 mod bar_state;
 mod beat_config;
 mod dp;

@@ -269,3 +269,41 @@ fn the_decoding_grid_is_checked() {
         (60.0 * 60.0 / cfg.min_bpm).ceil() as usize
     );
 }
+
+#[test]
+fn downbeat_evidence_moves_the_phase_not_the_bar_length() {
+    use beat_track::bar_pointer::decode_with_downbeat_evidence;
+    // 40 s at 100 bpm in 3/4 whose downbeat activation sits on the bar's first beat.
+    let beats = steady(100.0, 0.5, 40.0);
+    let (mut b, mut d) = activations(&beats, 3, 1200);
+    // A weak downbeat activation on the other beats and a weak beat activation on the
+    // downbeats, so the phase is a close call…
+    for (i, &t) in beats.iter().enumerate() {
+        let f = (t * FPS).round() as usize;
+        if i % 3 == 0 {
+            b[f] = 0.3;
+        } else {
+            d[f] = 0.3;
+        }
+    }
+    let cfg = BarPointerConfig::default();
+    let plain = decode(&b, &d, &cfg).unwrap();
+    assert_eq!(plain.beats_per_bar, 3);
+    // …and new bows start on the second beat of every bar.
+    let mut bows = vec![0.0f32; 1200];
+    for (i, &t) in beats.iter().enumerate() {
+        if i % 3 == 1 {
+            bows[(t * FPS).round() as usize] = 4.0;
+        }
+    }
+    let out = decode_with_downbeat_evidence(&b, &d, &bows, &cfg).unwrap();
+    assert_eq!(out.beats_per_bar, 3);
+    assert_eq!(out.log_probability, plain.log_probability);
+    let second: Vec<f64> = beats.iter().skip(1).step_by(3).copied().collect();
+    assert!(beat_prf(&second, &out.downbeats_s, 0.07).f_measure > 0.9);
+    assert!(beat_prf(&downbeats(&beats, 3), &plain.downbeats_s, 0.07).f_measure > 0.9);
+    // Evidence of the wrong length or not finite is refused.
+    assert!(decode_with_downbeat_evidence(&b, &d, &bows[1..], &cfg).is_err());
+    bows[5] = f32::NAN;
+    assert!(decode_with_downbeat_evidence(&b, &d, &bows, &cfg).is_err());
+}

@@ -1,0 +1,154 @@
+//! The settings of [`crate::bar_pointer`]'s decoder and the tempo grid they imply.
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{BeatError, Result};
+
+/// Settings of the decoder.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct BarPointerConfig {
+    /// Frames per second of the activations.
+    pub fps: f64,
+    /// Slowest tempo (beats per minute at the notated beat).
+    pub min_bpm: f64,
+    /// Fastest tempo.
+    pub max_bpm: f64,
+    /// The bar lengths (beats per bar) to try.
+    pub beats_per_bar: Vec<usize>,
+    /// The activations are linearly interpolated to this many times `fps` before decoding
+    /// (1 = not at all): at 30 fps a beat at 180 bpm is 10 frames, so the tempo can only
+    /// move in 10 % steps and every step pays the tempo-change penalty; a finer grid lets
+    /// fast beats be followed.
+    pub upsample: usize,
+    /// At most this many tempi (beat intervals log-spaced over the range, as madmom's
+    /// `num_tempi`); 0 = every whole number of (upsampled) frames in the range.
+    pub max_tempi: usize,
+    /// Tempo-change penalty at beat boundaries (madmom's `transition_lambda`).
+    pub transition_lambda: f64,
+    /// One beat in this many frames of a beat period observes a beat (madmom's
+    /// `observation_lambda`).
+    pub observation_lambda: f64,
+    /// At most this many seconds of a beat observe a beat (0 = no limit): without a limit
+    /// a slow beat's observing region is wider than an activation peak, which favours
+    /// decoding twice the tempo.
+    pub max_beat_region_s: f64,
+    /// Beat and downbeat activations below this are read as this much (the "no beat"
+    /// one is not floored): with a fixed-width observing region a beat in silence would
+    /// otherwise cost so much that the slowest tempo wins across a long silent gap.
+    pub observation_floor: f32,
+    /// Beats with no frame of beat activation ≥ `gate` within `gate_window_s` are dropped.
+    pub gate: f32,
+    /// Half-width of the gate's window in seconds.
+    pub gate_window_s: f64,
+    /// Below this confidence no beats are returned.
+    pub min_confidence: f32,
+    /// Log-probability per decoded frame (at `fps · upsample`) added to each bar length's path (same order as
+    /// `beats_per_bar`; empty = none) before the most likely bar length is taken: a prior
+    /// over metres that grows with the recording, as the paths' own log-probabilities do.
+    pub bar_length_prior_per_frame: Vec<f64>,
+}
+
+impl Default for BarPointerConfig {
+    fn default() -> Self {
+        Self {
+            fps: 30.0,
+            min_bpm: 38.0,
+            max_bpm: 215.0,
+            // Chosen on the corpus's validation split (violin-train's `tune_beats`
+            // example, corpus-hook): against 30 fps with every interval, no region limit,
+            // λ 60/6, beat F .775 → .820, tempo ±8 % .654 → .750, double tempo .125 → .038.
+            upsample: 2,
+            max_tempi: 40,
+            beats_per_bar: vec![1, 2, 3, 4],
+            // Chosen on the corpus's validation split with beat-net's activations
+            // (violin-train's `tune_beats` example); madmom uses 100 and 16 at 100 fps.
+            transition_lambda: 100.0,
+            observation_lambda: 8.0,
+            max_beat_region_s: 0.05,
+            observation_floor: 0.003,
+            gate: 0.1,
+            gate_window_s: 1.5,
+            min_confidence: 0.1,
+            // Chosen with `bar_length_prior_per_frame` on the validation split
+            // (violin-train's `tune_beats` example): metre .567 → .692, downbeat F
+            // .597 → .626, beat F .786 → .785.
+            bar_length_prior_per_frame: vec![0.0025, 0.0075, 0.0025, 0.0],
+        }
+    }
+}
+
+impl BarPointerConfig {
+    /// The beat intervals (frames at the decoding rate, `fps · upsample`) of the tempo
+    /// range: every whole number of frames, or `max_tempi` of them log-spaced.
+    pub fn intervals(&self) -> Vec<usize> {
+        let fps = self.fps * self.upsample.max(1) as f64;
+        let lo = ((60.0 * fps / self.max_bpm).floor() as usize).max(1);
+        let hi = ((60.0 * fps / self.min_bpm).ceil() as usize).max(lo);
+        if self.max_tempi == 0 || self.max_tempi > hi - lo {
+            return (lo..=hi).collect();
+        }
+        let (a, b) = ((lo as f64).ln(), (hi as f64).ln());
+        let steps = self.max_tempi.max(2) - 1;
+        let mut out: Vec<usize> = (0..=steps)
+            .map(|k| (a + (b - a) * k as f64 / steps as f64).exp().round() as usize)
+            .collect();
+        out.dedup();
+        out
+    }
+
+    /// Frames of a beat that observe a beat, per interval of `intervals`.
+    pub(crate) fn region(&self, intervals: &[usize]) -> Vec<usize> {
+        let cap = if self.max_beat_region_s > 0.0 {
+            ((self.max_beat_region_s * self.fps * self.upsample as f64).round() as usize).max(1)
+        } else {
+            usize::MAX
+        };
+        intervals
+            .iter()
+            .map(|&i| {
+                ((i as f64 / self.observation_lambda).round() as usize)
+                    .clamp(1, i)
+                    .min(cap)
+            })
+            .collect()
+    }
+
+    pub(crate) fn check(&self) -> Result<()> {
+        let bad = |m: &str| Err(BeatError::InvalidConfig(format!("bar pointer: {m}")));
+        if !(self.fps.is_finite() && self.fps > 0.0) {
+            return bad("fps must be positive");
+        }
+        if !(self.min_bpm > 0.0 && self.max_bpm >= self.min_bpm && self.max_bpm.is_finite()) {
+            return bad("need 0 < min_bpm ≤ max_bpm");
+        }
+        if self.upsample == 0 || self.upsample > 8 {
+            return bad("upsample must be 1 to 8");
+        }
+        if self.intervals().len() > usize::from(u16::MAX) {
+            return bad("the tempo range has too many beat intervals");
+        }
+        if self.beats_per_bar.is_empty() || self.beats_per_bar.iter().any(|&b| b == 0 || b > 12) {
+            return bad("beats_per_bar must list bar lengths of 1 to 12 beats");
+        }
+        if !self.bar_length_prior_per_frame.is_empty()
+            && (self.bar_length_prior_per_frame.len() != self.beats_per_bar.len()
+                || self
+                    .bar_length_prior_per_frame
+                    .iter()
+                    .any(|p| !p.is_finite()))
+        {
+            return bad("bar_length_prior_per_frame must give one finite value per bar length");
+        }
+        if !(self.transition_lambda >= 0.0 && self.observation_lambda >= 1.0) {
+            return bad("transition_lambda must be ≥ 0 and observation_lambda ≥ 1");
+        }
+        if !(0.0..1.0).contains(&self.observation_floor) {
+            return bad("observation_floor must be in 0–1");
+        }
+        if !(self.max_beat_region_s >= 0.0 && self.max_beat_region_s.is_finite()) {
+            return bad("max_beat_region_s must be ≥ 0 (0 = no limit)");
+        }
+        Ok(())
+    }
+}
