@@ -85,7 +85,7 @@ pub fn pooled_accuracy(cases: &[DirectionCase], decoder: Option<DirectionDecoder
 /// accuracy; the rules alone (`None`) when nothing beats them.
 pub fn tune_direction_decoder(cases: &[DirectionCase]) -> (Option<DirectionDecoder>, f64) {
     let mut best = (None, pooled_accuracy(cases, None));
-    for net_weight in [0.0f32, 0.25, 0.5, 1.0, 2.0, 4.0] {
+    for net_weight in [0.0f32, 0.25, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0] {
         for rule_weight in [0.0f32, 0.25, 0.5, 1.0] {
             for stay_probability in [0.02f32, 0.05, 0.1, 0.2] {
                 for downbeat_weight in [0.0f32, 1.0, 2.0, 3.0, 4.0] {
