@@ -94,28 +94,6 @@ pub fn decode_with_downbeat_evidence(
     evidence: &[f32],
     cfg: &BarPointerConfig,
 ) -> Result<BarPointerBeats> {
-    let chosen = decode_checked(beat, downbeat, &[], cfg)?;
-    if evidence.is_empty() || chosen.beats_s.is_empty() {
-        return Ok(chosen);
-    }
-    let one = BarPointerConfig {
-        beats_per_bar: vec![chosen.beats_per_bar],
-        bar_length_prior_per_frame: Vec::new(),
-        ..cfg.clone()
-    };
-    let mut phased = decode_checked(beat, downbeat, evidence, &one)?;
-    phased.log_probability = chosen.log_probability;
-    Ok(phased)
-}
-
-/// [`decode_with_downbeat_evidence`] over every bar length of `cfg` at once.
-fn decode_checked(
-    beat: &[f32],
-    downbeat: &[f32],
-    evidence: &[f32],
-    cfg: &BarPointerConfig,
-) -> Result<BarPointerBeats> {
-    cfg.check()?;
     if !evidence.is_empty() && evidence.len() != beat.len() {
         return Err(BeatError::InvalidActivation(format!(
             "{} frames of downbeat evidence for {} frames of activation",
@@ -128,6 +106,30 @@ fn decode_checked(
             "downbeat evidence that is not finite".into(),
         ));
     }
+    let chosen = decode_checked(beat, downbeat, &[], cfg)?;
+    // No evidence anywhere (no bow change heard): the second decoding would repeat the first.
+    if evidence.iter().all(|&v| v == 0.0) || chosen.beats_s.is_empty() {
+        return Ok(chosen);
+    }
+    let one = BarPointerConfig {
+        beats_per_bar: vec![chosen.beats_per_bar],
+        bar_length_prior_per_frame: Vec::new(),
+        ..cfg.clone()
+    };
+    let mut phased = decode_checked(beat, downbeat, evidence, &one)?;
+    phased.log_probability = chosen.log_probability;
+    Ok(phased)
+}
+
+/// [`decode_with_downbeat_evidence`] over every bar length of `cfg` at once, `evidence`
+/// already checked (empty, or one finite value per frame).
+fn decode_checked(
+    beat: &[f32],
+    downbeat: &[f32],
+    evidence: &[f32],
+    cfg: &BarPointerConfig,
+) -> Result<BarPointerBeats> {
+    cfg.check()?;
     if beat.len() != downbeat.len() {
         return Err(BeatError::InvalidActivation(format!(
             "{} beat and {} downbeat frames",

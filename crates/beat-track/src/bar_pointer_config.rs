@@ -43,9 +43,10 @@ pub struct BarPointerConfig {
     pub gate_window_s: f64,
     /// Below this confidence no beats are returned.
     pub min_confidence: f32,
-    /// Log-probability per decoded frame (at `fps · upsample`) added to each bar length's path (same order as
-    /// `beats_per_bar`; empty = none) before the most likely bar length is taken: a prior
-    /// over metres that grows with the recording, as the paths' own log-probabilities do.
+    /// Log-probability per decoded frame (at `fps · upsample`) added to each bar length's
+    /// path (same order as `beats_per_bar`; empty = none) before the most likely bar length
+    /// is taken: a prior over metres that grows with the recording, as the paths' own
+    /// log-probabilities do.
     pub bar_length_prior_per_frame: Vec<f64>,
 }
 
@@ -56,13 +57,13 @@ impl Default for BarPointerConfig {
             min_bpm: 38.0,
             max_bpm: 215.0,
             // Chosen on the corpus's validation split (violin-train's `tune_beats`
-            // example, corpus-hook): against 30 fps with every interval, no region limit,
-            // λ 60/6, beat F .775 → .820, tempo ±8 % .654 → .750, double tempo .125 → .038.
+            // example, corpus-hook; with `max_beat_region_s` and `observation_floor`):
+            // against 30 fps with every interval, no region limit and λ 60/6, beat F .775 →
+            // .815, tempo ±8 % .654 → .740, double tempo .125 → .038.
             upsample: 2,
             max_tempi: 40,
             beats_per_bar: vec![1, 2, 3, 4],
-            // Chosen on the corpus's validation split with beat-net's activations
-            // (violin-train's `tune_beats` example); madmom uses 100 and 16 at 100 fps.
+            // Chosen with the four above; madmom uses 100 and 16 at 100 fps.
             transition_lambda: 100.0,
             observation_lambda: 8.0,
             max_beat_region_s: 0.05,

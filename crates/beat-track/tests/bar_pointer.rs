@@ -306,4 +306,7 @@ fn downbeat_evidence_moves_the_phase_not_the_bar_length() {
     assert!(decode_with_downbeat_evidence(&b, &d, &bows[1..], &cfg).is_err());
     bows[5] = f32::NAN;
     assert!(decode_with_downbeat_evidence(&b, &d, &bows, &cfg).is_err());
+    // Also when the activation is silent and nothing would be decoded.
+    let silent = vec![0.0f32; 1200];
+    assert!(decode_with_downbeat_evidence(&silent, &silent, &bows, &cfg).is_err());
 }

@@ -1,12 +1,15 @@
 //! Chooses the bar-pointer decoder's settings for beat-net's activations on a corpus's
 //! **validation** split only (the test sets are never read): beat and downbeat F (±70 ms,
-//! first 5 s ignored), metre and tempo (±8 %) accuracy for a small grid of
-//! `transition_lambda` × `observation_lambda`; then the bar-length prior (log-probability
-//! per frame added to each bar length's path before the most likely one is taken), searched
-//! coordinate-wise for the best metre accuracy + downbeat F, each item decoded once per bar
-//! length.
+//! first 5 s ignored), metre, tempo (±8 %) and double/half-tempo shares for a small grid of
+//! decoding rate and tempi (`upsample`, `max_tempi`), `observation_floor`,
+//! `transition_lambda`, `observation_lambda` and `max_beat_region_s`; then the bar-length
+//! prior (log-probability per decoded frame added to each bar length's path before the most
+//! likely one is taken), searched coordinate-wise for the best metre accuracy + downbeat F,
+//! each item decoded once per bar length; last, the figures with the labelled bar length
+//! (how much of the downbeat error is the bar length). The bars' phasing on bow changes is
+//! the facade's and is chosen with `violin-skeleton evaluate --split val`.
 //!
-//! `cargo run --release -p violin-train --example tune_beats -- corpus-10h [WEIGHTS]`
+//! `cargo run --release -p violin-train --example tune_beats -- corpus-hook [WEIGHTS]`
 
 use std::path::PathBuf;
 
