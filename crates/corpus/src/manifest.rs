@@ -172,6 +172,41 @@ impl ManifestItem {
             recording: item.recording.clone(),
         }
     }
+
+    /// Whether the music is a generated étude (its work is `etude/…`).
+    pub fn is_etude(&self) -> bool {
+        self.work.starts_with("etude/")
+    }
+
+    /// The evaluation set a report puts this item in: a test item by what it holds out
+    /// ([`HeldOut::set_name`]); a validation item by its music, because validation's works
+    /// are not training's (its violins are) — `"val works"` stands for held-out repertoire
+    /// and `"val études"` for in-distribution music, so a choice made on validation can be
+    /// read for each; a training item `"train"`.
+    ///
+    /// ```
+    /// use corpus::manifest::{HeldOut, ManifestItem, Split};
+    /// let json = r#"{"id": 7, "dir": "items/00007", "split": "val", "renderer": "soundfont",
+    ///   "duration_s": 12.0, "meter": "3/8", "tempo_bpm": 96.0, "notes": 40,
+    ///   "augmentation": {"sample_rate_hz": 44100, "tuning_cents": 0.0, "gain_db": 0.0,
+    ///     "reverb_wet": 0.0, "reverb_rt60_s": 0.0, "noise_dbfs": -200.0},
+    ///   "work": "essenFolksong/lot/0396"}"#;
+    /// let mut item: ManifestItem = serde_json::from_str(json)?;
+    /// assert_eq!(item.evaluation_set(), "val works");
+    /// item.work = "etude/42".into();
+    /// assert_eq!(item.evaluation_set(), "val études");
+    /// (item.split, item.held_out) = (Split::Test, HeldOut::Both);
+    /// assert_eq!(item.evaluation_set(), "held-out both");
+    /// # Ok::<(), serde_json::Error>(())
+    /// ```
+    pub fn evaluation_set(&self) -> &'static str {
+        match self.split {
+            Split::Test => self.held_out.set_name(),
+            Split::Val if self.is_etude() => "val études",
+            Split::Val => "val works",
+            Split::Train => "train",
+        }
+    }
 }
 
 /// The whole manifest.

@@ -9,7 +9,12 @@
 //! (how much of the downbeat error is the bar length). The bars' phasing on bow changes is
 //! the facade's and is chosen with `violin-skeleton evaluate --split val`.
 //!
-//! `cargo run --release -p violin-train --example tune_beats -- corpus-hook [WEIGHTS]`
+//! `cargo run --release -p violin-train --example tune_beats -- corpus-hook [WEIGHTS]
+//! [--music etude|repertoire] [--prior-only]`
+//!
+//! `--music repertoire` keeps the validation items of validation works (the stand-in for
+//! held-out repertoire: the same figures within a few points), `--music etude` the études;
+//! `--prior-only` skips the grid.
 
 use std::path::PathBuf;
 
@@ -31,10 +36,27 @@ struct Item {
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let mut args = std::env::args().skip(1);
+    let all: Vec<String> = std::env::args().skip(1).collect();
+    let music = all
+        .iter()
+        .position(|a| a == "--music")
+        .and_then(|i| all.get(i + 1))
+        .cloned();
+    if let Some(m) = music
+        .as_deref()
+        .filter(|m| !["etude", "repertoire"].contains(m))
+    {
+        return Err(format!("--music {m}: give etude or repertoire").into());
+    }
+    let prior_only = all.iter().any(|a| a == "--prior-only");
+    let mut args = all
+        .iter()
+        .enumerate()
+        .filter(|(i, a)| !a.starts_with("--") && (*i == 0 || all[i - 1] != "--music"))
+        .map(|(_, a)| a.clone());
     let dir: PathBuf = args
         .next()
-        .ok_or("usage: tune_beats CORPUS_DIR [WEIGHTS]")?
+        .ok_or("usage: tune_beats CORPUS_DIR [WEIGHTS] [--music etude|repertoire] [--prior-only]")?
         .into();
     let net = match args.next() {
         Some(p) => BeatActivation::load(&PathBuf::from(p))?,
@@ -43,6 +65,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let manifest = read_manifest(&dir)?;
     let mut items = Vec::new();
     for it in manifest.items.iter().filter(|it| it.split == Split::Val) {
+        match music.as_deref() {
+            Some("etude") if !it.is_etude() => continue,
+            Some("repertoire") if it.is_etude() => continue,
+            _ => {}
+        }
         let d = dir.join(&it.dir);
         let mel = cached_mel30(&d, &corpus::layout::item_audio(&d))?;
         let labels: serde_json::Value =
@@ -58,6 +85,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         });
     }
     println!("{} validation items", items.len());
+    if prior_only {
+        return tune_prior(&items);
+    }
     println!("up tempi floor lambda_t lambda_o cap_s   beat_F  down_F  meter  tempo  double  half");
     for (upsample, max_tempi, observation_floor) in [
         (1usize, 0usize, 0.0f32),

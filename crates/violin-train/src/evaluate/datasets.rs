@@ -77,7 +77,8 @@ pub struct LabelledRecording {
     /// Item folder or track file name.
     pub name: String,
     /// Evaluation set of a many-violin corpus (`in-distribution`, `held-out violin`,
-    /// `held-out repertoire`, `held-out both`), the renderer (`builtin`, `soundfont`) of an
+    /// `held-out repertoire`, `held-out both`, `val works`, `val études`; see
+    /// `corpus::manifest::ManifestItem::evaluation_set`), the renderer (`builtin`, `soundfont`) of an
     /// older corpus, or `urmp`.
     pub group: String,
     /// The audio file.
@@ -343,7 +344,7 @@ pub fn find_recordings(dir: &Path, split: SplitChoice) -> Result<(Layout, Vec<La
                     // Many-violin corpora report each evaluation set side by side;
                     // older corpora report per renderer.
                     group: if manifest.renderer == "many" {
-                        it.held_out.set_name().into()
+                        it.evaluation_set().into()
                     } else {
                         it.renderer.name().into()
                     },

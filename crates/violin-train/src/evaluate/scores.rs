@@ -351,7 +351,9 @@ impl EvaluationReport {
             "held-out repertoire" => 1,
             "held-out violin" => 2,
             "in-distribution" => 3,
-            _ => 4,
+            "val works" => 4,
+            "val études" => 5,
+            _ => 6,
         };
         let mut cols: Vec<(&str, &ScoreSummary)> =
             self.groups.iter().map(|(k, v)| (k.as_str(), v)).collect();
