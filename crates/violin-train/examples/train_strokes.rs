@@ -265,6 +265,26 @@ fn report(
         "direction decoder {direction_decoder:?}: validation accuracy {direction_val:.3} (rules alone {:.3})",
         pooled_accuracy(&val_cases, None)
     );
+    // Validation's works stand in for held-out repertoire: how the choice fares there, and
+    // what a choice made on them alone would be (reported, not written).
+    let etudes: std::collections::BTreeSet<&str> = manifest
+        .items
+        .iter()
+        .filter(|i| i.is_etude())
+        .map(|i| i.dir.as_str())
+        .collect();
+    let works_cases: Vec<_> = val
+        .iter()
+        .zip(&val_cases)
+        .filter(|(r, _)| !etudes.contains(r.name.as_str()))
+        .map(|(_, c)| c.clone())
+        .collect();
+    let (works_decoder, works_val) = tune_direction_decoder(&works_cases);
+    eprintln!(
+        "validation works ({} items): chosen decoder {:.3}; chosen on the works alone {works_decoder:?}: {works_val:.3}",
+        works_cases.len(),
+        pooled_accuracy(&works_cases, direction_decoder)
+    );
     if write_ensemble {
         let mut s = StrokeDetector::load(weights)?;
         s.set_ensemble_decoder(Some(ensemble_decoder));
