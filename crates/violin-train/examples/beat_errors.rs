@@ -101,7 +101,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let beat_f = beat_prf(&tr(&beats), &tr(&out.beats_s), 0.07).f_measure;
         let downbeat_f = beat_prf(&tr(&downbeats), &tr(&out.downbeats_s), 0.07).f_measure;
         let bar = labels["beats_per_bar"].as_u64().unwrap_or(0);
-        let notated = labels["tempo_bpm"].as_f64().unwrap_or(f64::NAN);
+        let notated = violin_train::beat_data::notated_meter(&d)
+            .1
+            .unwrap_or(f64::NAN);
         let kind = tempo_kind(out.tempo_bpm, notated);
         let s = summaries
             .entry(if it.is_etude() { "études" } else { "works" })

@@ -81,7 +81,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             beats: read_first_column(&d.join("beats.txt"))?,
             downbeats: read_first_column(&d.join("downbeats.txt"))?,
             bar: labels["beats_per_bar"].as_u64(),
-            tempo: labels["tempo_bpm"].as_f64(),
+            tempo: violin_train::beat_data::notated_meter(&d).1,
         });
     }
     println!("{} validation items", items.len());
