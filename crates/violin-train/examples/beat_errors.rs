@@ -3,7 +3,9 @@
 //! decoder, per item and summed up for études and works apart —
 //!
 //! * beat F, downbeat F (±70 ms, first 5 s ignored), metre and tempo (±8 %) accuracy;
-//! * the tempo errors by their ratio to the notated tempo (×2, ×½, ×3, ×⅓, ×3/2, ×2/3);
+//! * the tempo errors by their ratio to the played tempo at the notated beat (×2, ×½, ×3,
+//!   ×⅓, ×3/2, ×2/3), and for each kind the median number of notes per beat at the
+//!   notated and at the decoded tempo;
 //! * the bar lengths decoded for each labelled bar length (a confusion table);
 //! * beat-net's downbeat probability at each labelled beat of the bar (its largest value
 //!   within a frame of the beat), averaged per labelled bar length: how far the network
@@ -40,6 +42,8 @@ struct Summary {
     downbeat_f: f64,
     metre: usize,
     tempo: BTreeMap<&'static str, usize>,
+    /// Per tempo kind, notes per beat at the notated and at the decoded tempo.
+    notes_per_beat: BTreeMap<&'static str, (Vec<f64>, Vec<f64>)>,
     /// (labelled, decoded) bar lengths → items.
     confusion: BTreeMap<(u64, usize), usize>,
     /// labelled bar length → per beat of the bar (sum, count) of the downbeat probability.
@@ -72,6 +76,12 @@ fn beat_profile(beats: &[f64], downbeats: &[f64], downbeat_act: &[f32]) -> Vec<(
         }
     }
     out
+}
+
+fn median(v: &[f64]) -> f64 {
+    let mut v: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();
+    v.sort_by(f64::total_cmp);
+    v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -113,6 +123,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         s.downbeat_f += downbeat_f;
         s.metre += usize::from(bar == out.beats_per_bar as u64);
         *s.tempo.entry(kind).or_default() += 1;
+        let notes_per_min = it.notes as f64 / it.duration_s.max(1e-9) * 60.0;
+        let npb = s.notes_per_beat.entry(kind).or_default();
+        npb.0.push(notes_per_min / notated);
+        npb.1.push(notes_per_min / out.tempo_bpm.max(1e-9));
         *s.confusion.entry((bar, out.beats_per_bar)).or_default() += 1;
         let profile = s.profile.entry(bar).or_default();
         for (index, p) in beat_profile(&beats, &downbeats, &act.downbeat) {
@@ -144,6 +158,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .map(|(k, v)| format!("{k} {:.3}", *v as f64 / n))
             .collect();
         println!("tempo: {}", tempo.join(", "));
+        for (kind, (at_notated, at_decoded)) in &s.notes_per_beat {
+            println!(
+                "  {kind}: median notes per beat {:.2} at the notated tempo, {:.2} at the decoded",
+                median(at_notated),
+                median(at_decoded)
+            );
+        }
         println!("bar lengths, labelled → decoded (items):");
         for ((bar, decoded), count) in &s.confusion {
             println!("  {bar} → {decoded}: {count}");
