@@ -76,10 +76,8 @@ enum LabelSource {
 pub struct LabelledRecording {
     /// Item folder or track file name.
     pub name: String,
-    /// Evaluation set of a many-violin corpus (`in-distribution`, `held-out violin`,
-    /// `held-out repertoire`, `held-out both`, `val works`, `val études`; see
-    /// `corpus::manifest::ManifestItem::evaluation_set`), the renderer (`builtin`, `soundfont`) of an
-    /// older corpus, or `urmp`.
+    /// Evaluation set of a many-violin corpus (`corpus::manifest::ManifestItem::
+    /// evaluation_set`), the renderer (`builtin`, `soundfont`) of an older corpus, or `urmp`.
     pub group: String,
     /// The audio file.
     pub audio: PathBuf,
