@@ -150,7 +150,7 @@ fn the_player_animates_the_skeleton_in_headless_chromium() {
 /// Screenshots of `player` after 0.5 s and 4 s of playing show the skeleton in two poses.
 /// Headless Chromium has no sound device: the player waits up to 1.5 s for its audio to load
 /// and 0.75 s more for the audio clock to move before it plays on its own clock, so the
-/// later shot must come well after 2.25 s (at 2.5 s the test failed once in 25 runs, when
+/// later shot must come well after 2.25 s (at 2.5 s the test failed once in 25 runs, probably when
 /// the audio loaded late and the skeleton had moved only a few frames).
 fn assert_animates(chromium: &Path, player: &Path, dir: &Path) {
     let url = format!("file://{}?play=1", player.display());
