@@ -237,3 +237,15 @@ pub struct Manifest {
     #[serde(default)]
     pub chord_pitches_dropped: usize,
 }
+
+impl Manifest {
+    /// The item folders (`ManifestItem::dir`) of the études ([`ManifestItem::is_etude`]);
+    /// every other item is an excerpt of a work.
+    pub fn etude_dirs(&self) -> std::collections::BTreeSet<&str> {
+        self.items
+            .iter()
+            .filter(|i| i.is_etude())
+            .map(|i| i.dir.as_str())
+            .collect()
+    }
+}

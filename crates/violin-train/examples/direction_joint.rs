@@ -23,7 +23,7 @@ use std::path::PathBuf;
 
 use bowing_net::metrics::{match_events, Counts};
 use bowing_net::stroke::decode::changes_inside;
-use bowing_net::stroke::direction::{beat_places, mean_log_odds, BeatPlace, DirectionDecoder};
+use bowing_net::stroke::direction::{beat_places, mean_log_odds, DirectionDecoder};
 use bowing_net::{BowingModel, Decoder};
 use performance::{heard_bow_directions, strokes_of, BowDirection};
 use violin_train::bowing_data::{load_dataset, read_manifest};
@@ -102,65 +102,12 @@ fn log_sigmoid(x: f32) -> f32 {
     -((-x).exp().ln_1p())
 }
 
-/// Viterbi over segments with per-boundary flip log-probabilities.
-fn viterbi(
-    d: &DirectionDecoder,
-    evidence: &[f32],
-    rules: &[BowDirection],
-    places: &[BeatPlace],
-    flip_logp: &[(f32, f32)],
-) -> Vec<BowDirection> {
-    let n = evidence.len();
-    if n == 0 {
-        return Vec::new();
-    }
-    let emit = |k: usize, down: bool| -> f32 {
-        let net = if down {
-            log_sigmoid(evidence[k])
-        } else {
-            log_sigmoid(-evidence[k])
-        };
-        let rule = if (rules[k] == BowDirection::Down) == down {
-            d.rule_weight
-        } else {
-            0.0
-        };
-        let place = match (down, places.get(k)) {
-            (true, Some(BeatPlace::Downbeat)) => d.downbeat_weight,
-            (true, Some(BeatPlace::Beat)) => d.beat_weight,
-            _ => 0.0,
-        };
-        d.net_weight * net + rule + place
-    };
-    let mut score = [emit(0, true), emit(0, false)];
-    let mut back: Vec<[u8; 2]> = vec![[0, 1]];
-    for (k, &(ls, lf)) in flip_logp.iter().enumerate().take(n).skip(1) {
-        let mut next = [0.0f32; 2];
-        let mut from = [0u8; 2];
-        for s in 0..2 {
-            let same = score[s] + ls;
-            let other = score[1 - s] + lf;
-            (next[s], from[s]) = if same >= other {
-                (same, s as u8)
-            } else {
-                (other, (1 - s) as u8)
-            };
-            next[s] += emit(k, s == 0);
-        }
-        score = next;
-        back.push(from);
-    }
-    let mut s = usize::from(score[1] > score[0]);
-    let mut out = vec![BowDirection::Down; n];
-    for k in (0..n).rev() {
-        out[k] = if s == 0 {
-            BowDirection::Down
-        } else {
-            BowDirection::Up
-        };
-        s = usize::from(back[k][s]);
-    }
-    out
+/// The detected changes and the directions `d` decodes over them (the analysis's way).
+fn shipped_decoding(c: &DirectionCase, d: DirectionDecoder) -> Strokes {
+    let mut b = c.bowed.clone();
+    b.direction_decoder = Some(d);
+    let dirs = b.directions(&c.bow_changes_s, &c.notes, &c.beats_s, &c.downbeats_s);
+    (c.bow_changes_s.clone(), dirs)
 }
 
 /// (changes_s, directions) decoded jointly.
@@ -219,7 +166,7 @@ fn joint(
         })
         .collect();
     let n = evidence.len().min(rules.len());
-    let dirs = viterbi(d, &evidence[..n], &rules[..n], &places, &flip_logp);
+    let dirs = d.decode_with_flips(&evidence[..n], &rules[..n], &places, &flip_logp);
     let mut out_t = Vec::new();
     let mut out_d = Vec::new();
     for (k, &(t, optional, _)) in bounds.iter().enumerate().take(n) {
@@ -253,12 +200,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     );
     let data = load_dataset(&corpus, &|_, _| {})?;
     let manifest = read_manifest(&corpus)?;
-    let etudes: std::collections::BTreeSet<&str> = manifest
-        .items
-        .iter()
-        .filter(|i| i.is_etude())
-        .map(|i| i.dir.as_str())
-        .collect();
+    let etudes = manifest.etude_dirs();
     let model = BowingModel::pretrained()?;
     let shipped = model.direction_decoder().ok_or("no direction decoder")?;
     let pipeline = violin_skeleton::Pipeline::default();
@@ -302,12 +244,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             long_only.total
         );
     }
-    let base = |c: &DirectionCase| {
-        let mut b = c.bowed.clone();
-        b.direction_decoder = Some(shipped);
-        let d = b.directions(&c.bow_changes_s, &c.notes, &c.beats_s, &c.downbeats_s);
-        (c.bow_changes_s.clone(), d)
-    };
+    let base = |c: &DirectionCase| shipped_decoding(c, shipped);
     let (a, f) = score(&all, &base);
     let (aw, fw) = score(&works, &base);
     println!("shipped: all val dir {a:.3} F1 {f:.3} | works dir {aw:.3} F1 {fw:.3}");
@@ -342,56 +279,43 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if std::env::args().any(|a| a == "--net-only") {
         return Ok(());
     }
+    // One decoder grid for both decodings.
+    let mut decoders = Vec::new();
+    for (net_weight, rule_weight) in [(0.0f32, 0.0f32), (0.0, 0.25), (4.0, 0.25)] {
+        for downbeat_weight in [1.0f32, 2.0, 3.0] {
+            for stay_probability in [0.05f32, 0.1] {
+                decoders.push(DirectionDecoder {
+                    net_weight,
+                    rule_weight,
+                    downbeat_weight,
+                    stay_probability,
+                    ..shipped
+                });
+            }
+        }
+    }
     let mut best = (0.0, String::new());
     for low in [0.15f32, 0.25] {
         for bias in [-3.0f32, -2.0, -1.0] {
-            for (net, rule) in [(0.0f32, 0.0f32), (0.0, 0.25), (4.0, 0.25)] {
-                for downbeat in [1.0f32, 2.0, 3.0] {
-                    for stay in [0.05f32, 0.1] {
-                        let d = DirectionDecoder {
-                            net_weight: net,
-                            rule_weight: rule,
-                            downbeat_weight: downbeat,
-                            stay_probability: stay,
-                            ..shipped
-                        };
-                        let run = |c: &DirectionCase| joint(c, &d, low, bias, 1.0);
-                        let (a, f) = score(&all, &run);
-                        let (aw, fw) = score(&works, &run);
-                        let line = format!(
-                            "low {low} bias {bias} net {net} rule {rule} downbeat {downbeat} stay {stay}: all dir {a:.3} F1 {f:.3} | works dir {aw:.3} F1 {fw:.3}"
-                        );
-                        println!("{line}");
-                        if a > best.0 {
-                            best = (a, line);
-                        }
-                    }
+            for d in &decoders {
+                let run = |c: &DirectionCase| joint(c, d, low, bias, 1.0);
+                let (a, f) = score(&all, &run);
+                let (aw, fw) = score(&works, &run);
+                let line = format!(
+                    "optional flips at peaks >= {low}, bias {bias}, {d:?}: all dir {a:.3} F1 {f:.3} | works dir {aw:.3} F1 {fw:.3}"
+                );
+                println!("{line}");
+                if a > best.0 {
+                    best = (a, line);
                 }
             }
         }
     }
-    // The shipped decoding (no optional flips) with the same decoder grid, for comparison.
-    for (net, rule) in [(0.0f32, 0.0f32), (0.0, 0.25), (4.0, 0.25)] {
-        for downbeat in [1.0f32, 2.0, 3.0] {
-            for stay in [0.05f32, 0.1] {
-                let d = DirectionDecoder {
-                    net_weight: net,
-                    rule_weight: rule,
-                    downbeat_weight: downbeat,
-                    stay_probability: stay,
-                    ..shipped
-                };
-                let run = |c: &DirectionCase| {
-                    let mut b = c.bowed.clone();
-                    b.direction_decoder = Some(d);
-                    let dirs = b.directions(&c.bow_changes_s, &c.notes, &c.beats_s, &c.downbeats_s);
-                    (c.bow_changes_s.clone(), dirs)
-                };
-                let (a, _) = score(&all, &run);
-                let (aw, _) = score(&works, &run);
-                println!("no optional flips, net {net} rule {rule} downbeat {downbeat} stay {stay}: all dir {a:.3} | works dir {aw:.3}");
-            }
-        }
+    for d in &decoders {
+        let run = |c: &DirectionCase| shipped_decoding(c, *d);
+        let (a, _) = score(&all, &run);
+        let (aw, _) = score(&works, &run);
+        println!("no optional flips, {d:?}: all dir {a:.3} | works dir {aw:.3}");
     }
     println!("best on all validation: {}", best.1);
     Ok(())

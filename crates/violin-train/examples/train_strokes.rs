@@ -267,12 +267,7 @@ fn report(
     );
     // Validation's works stand in for held-out repertoire: how the choice fares there, and
     // what a choice made on them alone would be (reported, not written).
-    let etudes: std::collections::BTreeSet<&str> = manifest
-        .items
-        .iter()
-        .filter(|i| i.is_etude())
-        .map(|i| i.dir.as_str())
-        .collect();
+    let etudes = manifest.etude_dirs();
     let works_cases: Vec<_> = val
         .iter()
         .zip(&val_cases)

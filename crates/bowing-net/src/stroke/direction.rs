@@ -168,12 +168,36 @@ impl DirectionDecoder {
         rules: &[BowDirection],
         places: &[BeatPlace],
     ) -> Vec<BowDirection> {
+        self.decode_with_flips(evidence, rules, places, &[])
+    }
+
+    /// [`DirectionDecoder::decode`] with the log-probabilities `(keep, flip)` of the
+    /// direction at each stroke's start given per stroke in `flips` (entry 0 is not read;
+    /// missing entries use [`DirectionDecoder::stay_probability`]): a boundary that may not
+    /// be a bow change at all can be given an even chance of flipping.
+    ///
+    /// ```
+    /// use bowing_net::stroke::direction::DirectionDecoder;
+    /// use performance::BowDirection::{Down, Up};
+    /// let d = DirectionDecoder { net_weight: 1.0, rule_weight: 0.0, ..Default::default() };
+    /// let even = (0.5f32.ln(), 0.5f32.ln());
+    /// // The second boundary may or may not be a change: the evidence decides.
+    /// let dirs = d.decode_with_flips(&[3.0, -3.0, -3.0], &[Down; 3], &[], &[even, even, even]);
+    /// assert_eq!(dirs, vec![Down, Up, Up]);
+    /// ```
+    pub fn decode_with_flips(
+        &self,
+        evidence: &[f32],
+        rules: &[BowDirection],
+        places: &[BeatPlace],
+        flips: &[(f32, f32)],
+    ) -> Vec<BowDirection> {
         let n = evidence.len().min(rules.len());
         if n == 0 {
             return Vec::new();
         }
         let stay = self.stay_probability.clamp(1e-6, 1.0 - 1e-6);
-        let (log_stay, log_flip) = (stay.ln(), (1.0 - stay).ln());
+        let default_flip = (stay.ln(), (1.0 - stay).ln());
         let emit = |k: usize, dir: BowDirection| -> f32 {
             let odds = if evidence[k].is_finite() {
                 evidence[k]
@@ -201,6 +225,7 @@ impl DirectionDecoder {
         let mut back: Vec<[u8; 2]> = Vec::with_capacity(n);
         back.push([0, 1]);
         for k in 1..n {
+            let (log_stay, log_flip) = flips.get(k).copied().unwrap_or(default_flip);
             let mut next = [0.0f32; 2];
             let mut from = [0u8; 2];
             for (s, state) in STATES.iter().enumerate() {
