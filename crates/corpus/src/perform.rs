@@ -40,7 +40,7 @@ const METRIC_FORK: u64 = 7;
 pub fn metric_weight(index: usize, per_bar: usize) -> f64 {
     if index == 0 {
         1.0
-    } else if per_bar >= 4 && per_bar % 2 == 0 && index == per_bar / 2 {
+    } else if per_bar >= 4 && per_bar.is_multiple_of(2) && index == per_bar / 2 {
         0.5
     } else {
         0.25
