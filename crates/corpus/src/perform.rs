@@ -17,35 +17,6 @@ const TAIL_S: f64 = 0.6;
 const STEPS_PER_Q: f64 = 48.0;
 /// Fastest note rate a drawn tempo may ask of the player, notes per second.
 const MAX_NOTES_PER_S: f64 = 13.0;
-/// The largest metrical emphasis (dynamic units, 0–1 scale) a player gives a downbeat; each
-/// performance draws its own from 0 to this ([`metric_weight`]).
-pub const MAX_METRIC_EMPHASIS: f64 = 0.1;
-/// The fork of the performance seed that draws the metrical emphasis, apart from the
-/// timing stream so the rest of a performance is drawn as before.
-const METRIC_FORK: u64 = 7;
-
-/// How much of the metrical emphasis a note starting on beat `index` of a bar of `per_bar`
-/// beats gets: players lean on the bar's first beat, less on the middle of a bar of four or
-/// six beats (the other strong beat) and a little on every beat (Sloboda 1983; Drake &
-/// Palmer 1993: performers make the metre audible with small dynamic accents). Notes off
-/// the beat get none.
-///
-/// ```
-/// use corpus::perform::metric_weight;
-/// assert_eq!(metric_weight(0, 4), 1.0);
-/// assert_eq!(metric_weight(2, 4), 0.5);
-/// assert_eq!(metric_weight(1, 4), 0.25);
-/// assert_eq!(metric_weight(1, 2), 0.25); // 2/4 and 6/8 have no second strong beat
-/// ```
-pub fn metric_weight(index: usize, per_bar: usize) -> f64 {
-    if index == 0 {
-        1.0
-    } else if per_bar >= 4 && per_bar.is_multiple_of(2) && index == per_bar / 2 {
-        0.5
-    } else {
-        0.25
-    }
-}
 
 /// How one performance was timed (drawn from the seed; written to the manifest).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -146,12 +117,7 @@ pub fn perform(score: &Score, seed: u64, tempo_range_bpm: (f64, f64)) -> Played 
         })
         .collect();
 
-    // Dynamics for scores without marks: a level and slow hairpins; on every score a small
-    // metrical emphasis on the beats, strongest on the downbeat.
-    let emphasis = Rng::new(seed)
-        .fork(METRIC_FORK)
-        .uniform(0.0, MAX_METRIC_EMPHASIS);
-    let slots = score.beat_slots_q();
+    // Dynamics for scores without marks: a level and slow hairpins.
     let base_level = rng.uniform(0.3, 0.8);
     let hairpin = (
         rng.uniform(0.1, 0.3),
@@ -187,8 +153,7 @@ pub fn perform(score: &Score, seed: u64, tempo_range_bpm: (f64, f64)) -> Played 
                     + hairpin.0 * (std::f64::consts::TAU * n.start_q / hairpin.1 + hairpin.2).sin()
             },
             f64::from,
-        ) + rng.uniform(-0.04, 0.04)
-            + emphasis * metric_emphasis(&slots, n.start_q);
+        ) + rng.uniform(-0.04, 0.04);
         let starts_bar = downbeat_q.iter().any(|q| (q - n.start_q).abs() < 1e-6);
         notes.push(TimedNote {
             note: Note::new(onset, onset + sounding.max(0.015), n.midi),
@@ -225,15 +190,6 @@ pub fn perform(score: &Score, seed: u64, tempo_range_bpm: (f64, f64)) -> Played 
         tempo_bpm_per_beat,
         timing,
     }
-}
-
-/// The [`metric_weight`] of a note starting at `q` among the score's beats (0 off the beat).
-fn metric_emphasis(slots: &[crate::score::BeatSlot], q: f64) -> f64 {
-    let i = slots.partition_point(|b| b.q < q - 1e-6);
-    slots
-        .get(i)
-        .filter(|b| (b.q - q).abs() < 1e-6)
-        .map_or(0.0, |b| metric_weight(b.index, b.per_bar))
 }
 
 /// Integrates the tempo: base × two rubato waves × a per-bar drift × phrase-end and final
@@ -337,73 +293,4 @@ pub const HOOK_ADHERENCE: (f64, f64) = (0.7, 1.0);
 pub fn hook_to_downbeats(timeline: &mut Timeline, rng: &mut Rng) -> usize {
     let adherence = rng.uniform(HOOK_ADHERENCE.0, HOOK_ADHERENCE.1);
     timeline.hook_to_downbeats(|_| rng.chance(adherence))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::score::{Bar, PartNote, Provenance};
-
-    /// Eight bars of 4/4 in even quarter notes, marked mezzo-forte throughout.
-    fn even_quarters() -> Score {
-        Score {
-            work: "w".into(),
-            id: "w".into(),
-            bars: (0..8)
-                .map(|b| Bar {
-                    start_q: 4.0 * f64::from(b),
-                    len_q: 4.0,
-                    time_signature: TimeSignature::new(4, 4),
-                })
-                .collect(),
-            notes: (0..32)
-                .map(|i| PartNote {
-                    start_q: f64::from(i),
-                    dur_q: 1.0,
-                    midi: 69,
-                    lower: Vec::new(),
-                    slurred_from_previous: false,
-                    dynamic: Some(0.5),
-                    accent: false,
-                    staccato: false,
-                    fermata: false,
-                })
-                .collect(),
-            tempo_bpm: Some(100.0),
-            provenance: Provenance::default(),
-        }
-    }
-
-    #[test]
-    fn beats_are_emphasised_by_their_metrical_weight() {
-        let score = even_quarters();
-        let mut emphasised = 0;
-        for seed in 0..20u64 {
-            let played = perform(&score, seed, (60.0, 120.0));
-            let mean_at = |beat: usize| {
-                let d: Vec<f64> = played
-                    .timeline
-                    .notes
-                    .iter()
-                    .skip(beat)
-                    .step_by(4)
-                    .map(|n| f64::from(n.dynamic))
-                    .collect();
-                d.iter().sum::<f64>() / d.len() as f64
-            };
-            let (one, two, three) = (mean_at(0), mean_at(1), mean_at(2));
-            // The ±0.04 per-note noise averages out over eight bars; the emphasis is the
-            // same draw for every bar of one performance.
-            let e = Rng::new(seed)
-                .fork(METRIC_FORK)
-                .uniform(0.0, MAX_METRIC_EMPHASIS);
-            assert!((one - two - 0.75 * e).abs() < 0.03, "seed {seed}");
-            assert!((three - two - 0.25 * e).abs() < 0.03, "seed {seed}");
-            emphasised += usize::from(one > two + 0.02);
-        }
-        assert!(
-            emphasised >= 10,
-            "{emphasised} of 20 performances lean on the downbeat"
-        );
-    }
 }

@@ -65,17 +65,6 @@ impl Meter {
     }
 }
 
-/// One notated beat of a [`Score`]: where it is and where it falls in its bar.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct BeatSlot {
-    /// Position in quarters.
-    pub q: f64,
-    /// The beat's number in the bar, 0 for the downbeat.
-    pub index: usize,
-    /// Beats in a full bar of this time signature.
-    pub per_bar: usize,
-}
-
 /// One written note. Rests are the gaps between notes.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ScoreNote {
@@ -225,20 +214,10 @@ impl Score {
     /// Every notated beat as `(position in quarters, is a downbeat)`. A pickup bar's beats
     /// are counted back from its end; a partial bar's first beat is not a downbeat.
     pub fn beats_q(&self) -> Vec<(f64, bool)> {
-        self.beat_slots_q()
-            .into_iter()
-            .map(|b| (b.q, b.index == 0))
-            .collect()
-    }
-
-    /// Every notated beat with its place in the bar (a pickup bar's beats numbered as in
-    /// a full bar).
-    pub fn beat_slots_q(&self) -> Vec<BeatSlot> {
         let mut out = Vec::new();
         for (i, bar) in self.bars.iter().enumerate() {
             let beat = bar.time_signature.beat_quarters();
             let full = bar.time_signature.bar_quarters();
-            let per_bar = ((full / beat).round() as usize).max(1);
             // A short first bar is a pickup: its beats sit where they would in a full bar.
             let shift = if i == 0 && bar.is_partial() {
                 full - bar.len_q
@@ -247,11 +226,8 @@ impl Score {
             };
             let mut k = (shift / beat).ceil();
             while k * beat - shift < bar.len_q - 1e-6 {
-                out.push(BeatSlot {
-                    q: bar.start_q + k * beat - shift,
-                    index: k as usize,
-                    per_bar,
-                });
+                let q = bar.start_q + k * beat - shift;
+                out.push((q, k == 0.0 && shift == 0.0));
                 k += 1.0;
             }
         }
