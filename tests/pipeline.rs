@@ -36,6 +36,13 @@ fn demo_clip_gives_a_plausible_violinist() {
     );
     assert!(notes.f1 > 0.8, "note onsets F1 {}", notes.f1);
     assert!(changes.f1 > 0.7, "bow changes F1 {}", changes.f1);
+    // The minuet is 3/4 at 120 bpm: the beat is the quarter note, not the bar (a beat-net
+    // trained where every beat was louder read it at 40 bpm; crates/beat-net/README.md).
+    assert!(
+        (analysis.tempo_bpm / 120.0 - 1.0).abs() <= 0.08,
+        "tempo {} bpm, the minuet is played at 120",
+        analysis.tempo_bpm
+    );
     // Every bow change well inside a note has split it (a new bow is a new note).
     let guard = violin_skeleton::BOW_CHANGE_SPLIT_MIN_PART_S;
     for t in &analysis.bow_changes_s {
