@@ -98,10 +98,6 @@ fn sawtooth(level: &[f32], spans: &[(usize, usize)]) -> Vec<f32> {
         .collect()
 }
 
-fn log_sigmoid(x: f32) -> f32 {
-    -((-x).exp().ln_1p())
-}
-
 /// The detected changes and the directions `d` decodes over them (the analysis's way).
 fn shipped_decoding(c: &DirectionCase, d: DirectionDecoder) -> Strokes {
     let mut b = c.bowed.clone();
@@ -159,7 +155,8 @@ fn joint(
             if optional {
                 let p = p.clamp(1e-4, 1.0 - 1e-4);
                 let z = gain * (p / (1.0 - p)).ln() + bias;
-                (log_sigmoid(-z), log_sigmoid(z))
+                let flip = 1.0 / (1.0 + (-z).exp());
+                ((1.0 - flip).max(1e-6).ln(), flip.max(1e-6).ln())
             } else {
                 (stay.ln(), (1.0 - stay).ln())
             }
