@@ -5,7 +5,7 @@
 //!
 //! ```text
 //! cargo run --release -p violin-train --example train_strokes -- CORPUS OUT.safetensors [EPOCHS]
-//! cargo run --release -p violin-train --example train_strokes -- CORPUS OUT.safetensors EPOCHS --init W.safetensors --lr 5e-4 --seed 2 [--direction-weight 2]
+//! cargo run --release -p violin-train --example train_strokes -- CORPUS OUT.safetensors EPOCHS --init W.safetensors --lr 5e-4 --seed 2 [--direction-weight 2] [--eq-db 6]
 //! cargo run --release -p violin-train --example train_strokes -- CORPUS --eval W.safetensors [--write-ensemble]
 //! cargo run --release -p violin-train --example train_strokes -- CORPUS OUT.safetensors EPOCHS --val-violin waveguide
 //! ```
@@ -82,6 +82,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             init_from: flag("--init").map(PathBuf::from),
             learning_rate: flag("--lr").map_or(Ok(defaults.learning_rate), |v| v.parse())?,
             seed: flag("--seed").map_or(Ok(defaults.seed), |v| v.parse())?,
+            timbre_eq_db: flag("--eq-db").map_or(Ok(defaults.timbre_eq_db), |v| v.parse())?,
             direction_weight: flag("--direction-weight")
                 .map_or(Ok(defaults.direction_weight), |v| v.parse())?,
             ..defaults

@@ -20,6 +20,8 @@ pub mod metrics;
 mod model;
 mod outputs;
 #[cfg(feature = "train")]
+pub mod timbre;
+#[cfg(feature = "train")]
 pub mod train;
 
 pub use detector::{

@@ -65,6 +65,9 @@ pub struct StrokeTrainConfig {
     /// a seeded initialisation: training then continues them (fine-tuning), with the
     /// normalisation statistics stored in that file.
     pub init_from: Option<std::path::PathBuf>,
+    /// Depth (dB) of the random equaliser each crop is heard through
+    /// ([`super::timbre`]); 0 = none.
+    pub timbre_eq_db: f32,
 }
 
 impl Default for StrokeTrainConfig {
@@ -82,6 +85,7 @@ impl Default for StrokeTrainConfig {
             seed: 1,
             max_steps_per_epoch: None,
             init_from: None,
+            timbre_eq_db: 0.0,
         }
     }
 }
@@ -291,6 +295,12 @@ pub fn train_strokes(
                 y.down_w[o..o + take].copy_from_slice(&l.down_w[r.clone()]);
                 y.string[o..o + take].copy_from_slice(&l.string[r.clone()]);
                 y.string_w[o..o + take].copy_from_slice(&l.string_w[r]);
+                if cfg.timbre_eq_db > 0.0 {
+                    let curve =
+                        super::timbre::random_curve(&mut rng, features - 2, cfg.timbre_eq_db);
+                    let crop = &mut x[o * features..(o + take) * features];
+                    super::timbre::equalise(crop, features, &curve);
+                }
                 // A short recording's crop is padded with silence of weight 0.
                 for k in take..cfg.crop_frames {
                     let row = &mut x[(o + k) * features..(o + k + 1) * features];
