@@ -73,25 +73,45 @@ pub fn stroke_input(mel_db: ArrayView2<f32>) -> Array2<f32> {
     let reference = reference_level_db(mel_db);
     let mut out = Array2::<f32>::zeros((frames, input_features(bands)));
     for t in 0..frames {
-        let mut flux = 0.0f32;
-        let mut level = FLOOR_DB;
         for b in 0..bands {
             let v = mel_db[(t, b)];
-            let v = if v.is_finite() {
+            out[(t, b)] = if v.is_finite() {
                 (v - reference).max(FLOOR_DB)
             } else {
                 FLOOR_DB
             };
-            out[(t, b)] = v;
-            level = level.max(v);
-            if t > 0 {
-                flux += (v - out[(t - 1, b)]).max(0.0);
-            }
         }
-        out[(t, bands)] = flux / bands.max(1) as f32;
-        out[(t, bands + 1)] = level;
+    }
+    if let Some(rows) = out.as_slice_mut() {
+        fill_flux_and_level(rows, bands);
     }
     out
+}
+
+/// Writes the flux and level columns of input rows (`bands + 2` values per row, the bands
+/// already set): the mean positive rise of the bands since the previous row (0 for the first)
+/// and the loudest band. Used by [`stroke_input`] and by the training augmentation, which
+/// changes the bands of a crop.
+pub(crate) fn fill_flux_and_level(rows: &mut [f32], bands: usize) {
+    let features = input_features(bands);
+    for t in 0..rows.len() / features {
+        let (before, here) = rows.split_at_mut(t * features);
+        let row = &mut here[..features];
+        let previous = t
+            .checked_sub(1)
+            .map(|p| &before[p * features..p * features + bands]);
+        let mut flux = 0.0f32;
+        let mut level = FLOOR_DB;
+        for b in 0..bands {
+            let v = row[b];
+            level = level.max(v);
+            if let Some(p) = previous {
+                flux += (v - p[b]).max(0.0);
+            }
+        }
+        row[bands] = flux / bands.max(1) as f32;
+        row[bands + 1] = level;
+    }
 }
 
 #[cfg(test)]

@@ -6,7 +6,7 @@
 
 use net_core::rng::Rng;
 
-use super::input::FLOOR_DB;
+use super::input::{fill_flux_and_level, FLOOR_DB};
 
 /// A random equaliser over `bands` mel bands, at most about `depth_db` deep: a tilt of up to
 /// ±`depth_db`/2 from the lowest to the highest band, plus three Gaussian bumps of up to
@@ -50,7 +50,8 @@ pub fn random_curve(rng: &mut Rng, bands: usize, depth_db: f32) -> Vec<f32> {
 /// Applies `curve` to a crop of stroke-network input rows (`features` values per row: the
 /// bands, then flux and level, as [`super::stroke_input`] makes them). Bands at the floor stay
 /// there; the crop is shifted so that its loudest frame keeps its level (the input is relative
-/// to the recording's loudest frames); flux and level are recomputed.
+/// to the recording's loudest frames); flux and level are recomputed as
+/// [`super::stroke_input`] computes them.
 pub fn equalise(crop: &mut [f32], features: usize, curve: &[f32]) {
     let bands = features.saturating_sub(2);
     if bands == 0 || curve.len() != bands {
@@ -70,30 +71,12 @@ pub fn equalise(crop: &mut [f32], features: usize, curve: &[f32]) {
         }
     }
     let shift = loudest(crop) - before;
-    let mut previous: Option<Vec<f32>> = None;
     for row in crop.chunks_exact_mut(features) {
-        let mut level = FLOOR_DB;
-        for v in row[..bands].iter_mut() {
-            if *v > FLOOR_DB {
-                *v = (*v - shift).max(FLOOR_DB);
-            }
-            level = level.max(*v);
-        }
-        let flux = previous.as_ref().map_or(0.0, |p| {
-            row[..bands]
-                .iter()
-                .zip(p)
-                .map(|(v, p)| (v - p).max(0.0))
-                .sum::<f32>()
-                / bands as f32
-        });
-        row[bands] = flux;
-        row[bands + 1] = level;
-        match previous.as_mut() {
-            Some(p) => p.copy_from_slice(&row[..bands]),
-            None => previous = Some(row[..bands].to_vec()),
+        for v in row[..bands].iter_mut().filter(|v| **v > FLOOR_DB) {
+            *v = (*v - shift).max(FLOOR_DB);
         }
     }
+    fill_flux_and_level(crop, bands);
 }
 
 #[cfg(test)]
