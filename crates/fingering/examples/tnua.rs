@@ -16,13 +16,11 @@
 
 use std::path::PathBuf;
 
-use fingering::train::{agreement, fit, read_tnua_dir, Agreement, Piece};
+use fingering::train::{agreement, fit, read_tnua_dir, Agreement, Piece, RESERVED_PIECES};
 use fingering::{
     Fingering, FingeringPlanner, FingeringTable, GreedyPlanner, LearnedParams, LearnedPlanner,
     OptimalPlanner,
 };
-
-const RESERVED: [&str; 4] = ["bach1", "bach2", "flower", "mend1"];
 
 /// "Highest string, lowest position": per note, the highest string that plays it, in the
 /// lowest position (1st or above) that does.
@@ -110,11 +108,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let pieces = read_tnua_dir(&dir)?;
     let train: Vec<&Piece> = pieces
         .iter()
-        .filter(|p| !RESERVED.contains(&p.name.as_str()))
+        .filter(|p| !RESERVED_PIECES.contains(&p.name.as_str()))
         .collect();
     let held: Vec<&Piece> = pieces
         .iter()
-        .filter(|p| RESERVED.contains(&p.name.as_str()))
+        .filter(|p| RESERVED_PIECES.contains(&p.name.as_str()))
         .collect();
 
     let greedy = GreedyPlanner::new(FingeringTable::physical());
@@ -126,7 +124,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     ];
 
     if reserved {
-        println!("## Reserved pieces ({})", RESERVED.join(", "));
+        println!("## Reserved pieces ({})", RESERVED_PIECES.join(", "));
         println!("| planner | notes | string | string+position | ≥ 1 violinist |");
         println!("|---|---|---|---|---|");
         let learned = LearnedPlanner::default();

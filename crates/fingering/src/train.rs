@@ -17,6 +17,10 @@ use crate::learned_params::LearnedParams;
 use crate::placement::Placement;
 use crate::string::ViolinString;
 
+/// The pieces reserved for the final evaluation (issue #22): never read for training,
+/// tuning or leave-one-piece-out.
+pub const RESERVED_PIECES: [&str; 4] = ["bach1", "bach2", "flower", "mend1"];
+
 /// One violinist's label of a note: string (1..=4, 0 = none), position, finger.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Label {

@@ -11,13 +11,12 @@ use std::path::PathBuf;
 
 use candle_core::{DType, Device, Tensor, D};
 use candle_nn::{Linear, Module, VarBuilder, VarMap};
-use fingering::train::{agreement, read_tnua_dir, Agreement, Label, Piece};
+use fingering::train::{agreement, read_tnua_dir, Agreement, Label, Piece, RESERVED_PIECES};
 use fingering::{learned_places, Fingering, ViolinString};
 use net_core::nn::{DropoutRng, Tcn, TcnConfig};
 use net_core::rng::Rng;
 use net_core::{Adam, AdamConfig};
 
-const RESERVED: [&str; 4] = ["bach1", "bach2", "flower", "mend1"];
 const PITCHES: usize = 51; // MIDI 55..=105
 const IV: usize = 28; // -13..=13 and "none"
 const F: usize = PITCHES + 2 * IV;
@@ -235,7 +234,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let pieces = read_tnua_dir(&dir)?;
     let train_pieces: Vec<&Piece> = pieces
         .iter()
-        .filter(|p| !RESERVED.contains(&p.name.as_str()))
+        .filter(|p| !RESERVED_PIECES.contains(&p.name.as_str()))
         .collect();
     let shifts = [0.0f32, 0.5, 1.0, 2.0, 4.0];
     let mut totals = vec![Agreement::default(); shifts.len()];
