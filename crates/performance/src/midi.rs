@@ -9,10 +9,11 @@
 //!   that starts while another sounds cuts it (legato);
 //! * pitches below G3 (MIDI 55) or above A7 (105) are refused, naming the first one, unless
 //!   [`MidiOptions::transpose_into_range`] moves them by octaves into the range;
-//! * **bowing** (see `midi_line`): a note continues the previous note's bow (a slur) when
-//!   it follows within 30 ms (legato), the slur has fewer than 4 notes (8 when notes are
-//!   shorter than 0.2 s), the bow has been moving for less than 2 s, it is not the first
-//!   note of a bar, and its velocity is within 20 of the previous one; every other note
+//! * **bowing** ([`MidiBowing`]): a note continues the previous note's bow (a slur) when
+//!   it starts within 1 ms of the previous note's end (legato: a separate bow leaves a
+//!   gap), the slur has fewer than 6 notes (8 when notes are shorter than 0.2 s), the bow
+//!   has been moving for less than 3 s, it is not the first note of a bar, and its
+//!   velocity is within 10 of the previous one; every other note
 //!   starts a new stroke; where a bar would then start up-bow, the two strokes before it
 //!   are hooked into one bow when that is playable ([`crate::hooks_for_downbeats`]);
 //!   directions follow [`crate::bow_directions`];
@@ -31,7 +32,7 @@ use std::path::{Path, PathBuf};
 
 use midly::{MetaMessage, MidiMessage, Smf, Timing, TrackEventKind};
 
-pub use crate::midi_line::timeline_from_score;
+pub use crate::midi_line::{timeline_from_score, timeline_from_score_with, MidiBowing};
 pub use crate::midi_score::{MidiNote, MidiScore};
 
 use crate::error::MidiError;

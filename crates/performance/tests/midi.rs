@@ -5,7 +5,8 @@
 use std::time::Instant;
 
 use performance::midi::{
-    score_from_midi, timeline_from_midi, timeline_from_midi_file, MidiOptions,
+    score_from_midi, timeline_from_midi, timeline_from_midi_file, timeline_from_score_with,
+    MidiBowing, MidiOptions,
 };
 
 /// A variable-length quantity.
@@ -108,10 +109,22 @@ fn the_line_for_motion_keeps_the_top_note_and_slurs_by_the_rules() {
     // Détaché (a gap between notes), but three strokes would start bar 2 up-bow: the
     // third quarter is hooked onto the second.
     assert_eq!(changes[..3], [true, true, false]);
-    assert!(changes[3] && !changes[4] && !changes[5]); // legato eighths slur after the bar's first
+    // The six legato eighths of bar 2 make one slur (fewer than 6 notes before each).
+    assert_eq!(changes[3..9], [true, false, false, false, false, false]);
     assert!(changes[9]); // downbeat of bar 3
     assert!(t.arousal_2hz.iter().all(|a| (-1.0..=1.0).contains(a)));
-    // Every bar that starts with a bow change starts down-bow.
+    // That slur starts on bar 2's downbeat, so nothing can be hooked before bar 3, which
+    // starts up-bow. With slurs of at most 4 notes the eighths take two strokes, and every
+    // bar that starts with a bow change starts down-bow.
+    let score = score_from_midi(&waltz(true), &MidiOptions::default()).unwrap();
+    let four = MidiBowing {
+        max_slur_notes: 4,
+        max_slur_notes_short: 4,
+        ..MidiBowing::default()
+    };
+    let t = timeline_from_score_with(&score, &four);
+    let changes: Vec<bool> = t.notes.iter().map(|n| n.bow_change).collect();
+    assert_eq!(changes[3..9], [true, false, false, false, true, false]);
     let notes: Vec<performance::Note> = t.notes.iter().map(|n| n.note).collect();
     let bow_changes_s = t.bow_changes_s();
     let dirs = performance::bow_directions(&bow_changes_s, &notes, &t.downbeats_s);

@@ -7,6 +7,7 @@
 //!   disk — the synthetic corpus (`violin-skeleton corpus`), URMP with OpenPose skeletons
 //!   (labels through `pose-preproc`) and DEAM — into the in-memory types the nets' `train`
 //!   feature trains on;
+//! * [`item_score`]: a corpus item's score as a MIDI file would give it;
 //! * [`feature_cache`]: an item's 30 fps mel spectrogram computed once and kept beside its
 //!   audio, for repeated training runs;
 //! * [`evaluate`]: the engine of `violin-skeleton evaluate`, every SPEC §10 measure of the
@@ -34,6 +35,7 @@ mod error;
 pub mod evaluate;
 pub mod feature_cache;
 pub mod gru_data;
+pub mod item_score;
 pub mod stroke_directions;
 
 pub use error::{Result, TrainError};
