@@ -55,6 +55,12 @@ pub struct CorpusArgs {
     /// Repertoire scores for `many` (written by scripts/export_repertoire.py).
     #[arg(long)]
     pub repertoire: Option<PathBuf>,
+    /// With `many`: write only the validation items, rendered with this violin instead
+    /// of the drawn one — a GUS patch (.pat, e.g. Debian freepats'
+    /// /usr/share/midi/freepats/Tone_000/040_Violin.pat) or an SF2 with GM program 40 — so
+    /// that choices can be checked on a violin training never hears.
+    #[arg(long)]
+    pub validation_violin: Option<PathBuf>,
     /// Render clean audio (no reverb, noise, gain or tuning changes; 22 050 Hz).
     #[arg(long)]
     pub no_augment: bool,
@@ -79,6 +85,11 @@ pub fn run(args: &CorpusArgs, report: &Reporter) -> Result<(), CliError> {
     if args.repertoire.is_some() && !matches!(args.renderer, RendererArg::Many) {
         return Err(CliError::Usage("--repertoire needs --renderer many".into()));
     }
+    if args.validation_violin.is_some() && !matches!(args.renderer, RendererArg::Many) {
+        return Err(CliError::Usage(
+            "--validation-violin needs --renderer many".into(),
+        ));
+    }
     let minutes = match (args.minutes, args.hours) {
         (_, Some(h)) if !(h.is_finite() && h > 0.0) => {
             return Err(CliError::Usage(format!(
@@ -97,6 +108,7 @@ pub fn run(args: &CorpusArgs, report: &Reporter) -> Result<(), CliError> {
     let cfg = CorpusConfig {
         minutes,
         repertoire: args.repertoire.clone(),
+        validation_violin: args.validation_violin.clone(),
         seed: args.seed,
         renderer,
         augment: !args.no_augment,

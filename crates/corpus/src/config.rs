@@ -47,6 +47,12 @@ pub struct CorpusConfig {
     /// Repertoire scores (`scripts/export_repertoire.py` output) mixed with the études
     /// (many-violin corpora only).
     pub repertoire: Option<PathBuf>,
+    /// A violin training never hears, for validation (many-violin corpora only): a GUS
+    /// patch (`.pat`, e.g. FreePats' `Tone_000/040_Violin.pat`) or an SF2 with GM program
+    /// 40. When set, only the validation items are written, each rendered with this violin
+    /// instead of the one drawn for it (the scores, performances and labels are the same as
+    /// in the corpus built without it).
+    pub validation_violin: Option<PathBuf>,
 }
 
 impl Default for CorpusConfig {
@@ -58,6 +64,7 @@ impl Default for CorpusConfig {
             augment: true,
             etude: EtudeConfig::default(),
             repertoire: None,
+            validation_violin: None,
         }
     }
 }

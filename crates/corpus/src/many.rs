@@ -11,11 +11,12 @@ use crate::error::CorpusError;
 use crate::etude::generate;
 use crate::item::{make_score_item, RendererKind};
 use crate::layout::{write_atomic, write_item};
-use crate::manifest::{Manifest, ManifestItem, MANIFEST_VERSION};
+use crate::manifest::{Manifest, ManifestItem, Split, MANIFEST_VERSION};
+use crate::render::{Renderer, SoundFontRenderer};
 use crate::schedule::{plan_item, HeldOut, ItemPlan, Music, WorksBySplit};
 use crate::score::Score;
 use crate::stats::CorpusStats;
-use crate::violins::{SourceKind, ViolinBank};
+use crate::violins::{SourceKind, ViolinBank, ViolinInfo};
 use net_core::rng::Rng;
 use performance::Timeline;
 
@@ -114,6 +115,47 @@ impl Draws<'_> {
     }
 }
 
+/// The violin of a validation-violin corpus ([`CorpusConfig::validation_violin`]).
+struct ValidationViolin {
+    renderer: SoundFontRenderer,
+    name: String,
+    info: ViolinInfo,
+}
+
+impl ValidationViolin {
+    fn load(path: &Path) -> Result<Self, CorpusError> {
+        let is_patch = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("pat"));
+        let renderer = if is_patch {
+            SoundFontRenderer::from_gus_patch_file(path)?
+        } else {
+            SoundFontRenderer::from_file(path)?
+        };
+        if !renderer.has_program(40) {
+            return Err(CorpusError::Config(format!(
+                "{}: has no GM program 40 (violin) to render the validation items with",
+                path.display()
+            )));
+        }
+        let stem = path
+            .file_stem()
+            .map_or_else(|| "violin".into(), |s| s.to_string_lossy().to_string());
+        let name = format!("validation:{stem}");
+        let info = ViolinInfo {
+            name: name.clone(),
+            file: path.display().to_string(),
+            license: "as its file states".into(),
+            held_out: true,
+        };
+        Ok(Self {
+            renderer,
+            name,
+            info,
+        })
+    }
+}
+
 /// Builds a many-violin corpus into `root` (see [`crate::build::build_corpus`]).
 pub fn build_many(
     root: &Path,
@@ -135,9 +177,13 @@ pub fn build_many(
         test_violins: bank.indices(true),
     };
     let count = draws.count();
+    let validation = match &cfg.validation_violin {
+        Some(path) => Some(ValidationViolin::load(path)?),
+        None => None,
+    };
     let done = AtomicUsize::new(0);
     type Entry = (ManifestItem, Timeline, String, (usize, usize));
-    let entries: Vec<Result<Entry, CorpusError>> = (0..count)
+    let entries: Vec<Result<Option<Entry>, CorpusError>> = (0..count)
         .into_par_iter()
         .map(|i| {
             let ItemDraw {
@@ -147,17 +193,32 @@ pub fn build_many(
                 mut rng,
                 item_seed,
             } = draws.item(i);
+            if validation.is_some() && plan.split != Split::Val {
+                progress(done.fetch_add(1, Ordering::Relaxed) + 1, count);
+                return Ok(None);
+            }
             let spec = bank
                 .spec(violin)
                 .ok_or_else(|| CorpusError::Config(format!("no violin source {violin}")))?;
-            let renderer = bank
-                .renderer(violin, &mut rng)
-                .ok_or_else(|| CorpusError::Config(format!("no violin source {violin}")))?;
-            let kind = match spec.kind {
-                SourceKind::Builtin => RendererKind::Builtin,
-                SourceKind::Waveguide => RendererKind::Waveguide,
-                SourceKind::SoundFont { .. } => RendererKind::Soundfont,
-            };
+            let (renderer, kind, name): (Box<dyn Renderer + '_>, RendererKind, &str) =
+                match &validation {
+                    Some(v) => (
+                        Box::new(v.renderer.clone()),
+                        RendererKind::Soundfont,
+                        &v.name,
+                    ),
+                    None => {
+                        let renderer = bank.renderer(violin, &mut rng).ok_or_else(|| {
+                            CorpusError::Config(format!("no violin source {violin}"))
+                        })?;
+                        let kind = match spec.kind {
+                            SourceKind::Builtin => RendererKind::Builtin,
+                            SourceKind::Waveguide => RendererKind::Waveguide,
+                            SourceKind::SoundFont { .. } => RendererKind::Soundfont,
+                        };
+                        (renderer, kind, spec.name)
+                    }
+                };
             let item = make_score_item(&score, item_seed, renderer.as_ref(), kind, cfg.augment)?;
             let written = write_item(root, i, &item)?;
             let audio = crate::layout::item_audio(&written)
@@ -169,11 +230,16 @@ pub fn build_many(
                 item.double_stops.notes.len(),
                 item.double_stops.pitches_dropped,
             );
-            let entry = ManifestItem::of(i, &item, plan.split, plan.held_out, spec.name, audio);
-            Ok((entry, item.timeline, meter, chords))
+            let entry = ManifestItem::of(i, &item, plan.split, plan.held_out, name, audio);
+            Ok(Some((entry, item.timeline, meter, chords)))
         })
         .collect();
-    let entries = entries.into_iter().collect::<Result<Vec<_>, _>>()?;
+    let entries: Vec<Entry> = entries
+        .into_iter()
+        .collect::<Result<Vec<_>, _>>()?
+        .into_iter()
+        .flatten()
+        .collect();
     let stats = CorpusStats::of(entries.iter().map(|(_, t, m, _)| (t, m.as_str())));
     let double_stops_played = entries.iter().map(|e| e.3 .0).sum();
     let chord_pitches_dropped = entries.iter().map(|e| e.3 .1).sum();
@@ -183,7 +249,10 @@ pub fn build_many(
         renderer: "many".into(),
         items: entries.into_iter().map(|(e, _, _, _)| e).collect(),
         stats,
-        violins: bank.infos(),
+        violins: match &validation {
+            Some(v) => vec![v.info.clone()],
+            None => bank.infos(),
+        },
         skipped_scores: skipped,
         double_stops_played,
         chord_pitches_dropped,

@@ -18,6 +18,7 @@ fn small(renderer: RendererChoice) -> CorpusConfig {
             ..EtudeConfig::default()
         },
         repertoire: None,
+        validation_violin: None,
     }
 }
 

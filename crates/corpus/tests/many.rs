@@ -205,6 +205,64 @@ fn many_violin_corpus_splits_by_work_and_violin() {
 }
 
 #[test]
+fn a_validation_violin_renders_only_the_validation_items_with_the_same_labels() {
+    let Some(sf2) = sf2_dir() else {
+        panic!("the Debian SoundFonts are missing: apt-get install fluid-soundfont-gm timgm6mb-soundfont csound-soundfont (.ci/run installs them)");
+    };
+    let rep = tempfile::tempdir().unwrap();
+    tiny_repertoire(rep.path()).unwrap();
+    let fonts = tempfile::tempdir().unwrap();
+    let violin = fonts.path().join("tiny.sf2");
+    std::fs::write(&violin, corpus::render::tiny_violin_sf2()).unwrap();
+    let cfg = CorpusConfig {
+        minutes: 2.0,
+        seed: 5,
+        renderer: RendererChoice::Many(sf2.to_path_buf()),
+        repertoire: Some(rep.path().to_path_buf()),
+        ..CorpusConfig::default()
+    };
+    let (plain, heard) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
+    let m = build_corpus(plain.path(), &cfg, &|_, _| {}).unwrap();
+    let with_violin = CorpusConfig {
+        validation_violin: Some(violin.clone()),
+        ..cfg.clone()
+    };
+    let v = build_corpus(heard.path(), &with_violin, &|_, _| {}).unwrap();
+    let val: Vec<_> = m.items.iter().filter(|i| i.split == Split::Val).collect();
+    assert!(!val.is_empty());
+    assert_eq!(v.items.len(), val.len());
+    assert_eq!(v.violins.len(), 1);
+    for (a, b) in val.iter().zip(&v.items) {
+        assert_eq!(
+            (a.dir.as_str(), b.split, b.violin.as_str()),
+            (b.dir.as_str(), Split::Val, "validation:tiny")
+        );
+        for f in ["notes.tsv", "bowchanges.txt", "strokes.tsv", "labels.json"] {
+            assert_eq!(
+                std::fs::read(plain.path().join(&a.dir).join(f)).unwrap(),
+                std::fs::read(heard.path().join(&b.dir).join(f)).unwrap(),
+                "{} {f}",
+                a.dir
+            );
+        }
+    }
+    // A file that is neither a GUS patch nor an SF2 is refused with its path.
+    let bogus = fonts.path().join("bogus.pat");
+    std::fs::write(&bogus, b"not a patch").unwrap();
+    let e = build_corpus(
+        tempfile::tempdir().unwrap().path(),
+        &CorpusConfig {
+            validation_violin: Some(bogus),
+            ..cfg
+        },
+        &|_, _| {},
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("bogus.pat") && e.contains("GUS patch"), "{e}");
+}
+
+#[test]
 fn a_missing_soundfont_folder_is_refused_with_its_path() {
     let out = tempfile::tempdir().unwrap();
     let cfg = CorpusConfig {

@@ -2,6 +2,7 @@
 
 mod biquad;
 mod bowed;
+mod gus_patch;
 mod portato;
 mod renderer;
 mod sf2_writer;
@@ -11,8 +12,9 @@ mod waveguide_string;
 
 pub use biquad::Biquad;
 pub use bowed::{BowedConfig, BowedStringSynth};
+pub use gus_patch::{gus_patch_samples, sf2_from_gus_patch};
 pub use portato::{is_portato, portato_gain, PORTATO_FALL_S, PORTATO_FLOOR, PORTATO_RISE_S};
 pub use renderer::{RenderError, RenderSettings, Renderer};
-pub use sf2_writer::tiny_violin_sf2;
+pub use sf2_writer::{tiny_violin_sf2, write_sf2, Sf2Sample};
 pub use soundfont::SoundFontRenderer;
 pub use waveguide::{WaveguideConfig, WaveguideViolin};

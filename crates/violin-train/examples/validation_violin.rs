@@ -1,0 +1,152 @@
+//! Bow-change decoding checked on a violin training never hears: the validation items of a
+//! corpus (training violins) and the same items rendered with another violin (`violin-skeleton
+//! corpus … --validation-violin V.pat`), scored apart and together, for each stroke-network
+//! weights file given — the network alone with its own decoder, and the shipped ensemble
+//! (its mean with the CNN) with the file's stored ensemble decoder and with a decoder
+//! re-tuned on both validation sets (bow-change F1 at ±2 frames, events pooled).
+//!
+//! With `--write`, the first weights file's ensemble decoder is replaced by the re-tuned one
+//! when that gains at least 0.005 F1 on both sets together (the rule `train_strokes` applies
+//! to a stored decoder). No test item is read.
+//!
+//! `cargo run --release -p violin-train --example validation_violin -- CORPUS VAL_VIOLIN_CORPUS W.safetensors [W2 …] [--write]`
+
+use std::path::{Path, PathBuf};
+
+use bowing_net::data::Recording;
+use bowing_net::metrics::{decoder_f1, tune_decoder};
+use bowing_net::stroke::StrokeDetector;
+use bowing_net::{BowChangeDetector, Decoder};
+use corpus::manifest::Split;
+use rayon::prelude::*;
+use violin_train::bowing_data::{load_corpus_item, read_manifest};
+
+/// The validation F1 a re-tuned decoder must gain to replace a stored one.
+const MIN_DECODER_GAIN_F1: f64 = 0.005;
+
+fn validation_items(dir: &Path) -> Result<Vec<Recording>, Box<dyn std::error::Error>> {
+    let manifest = read_manifest(dir)?;
+    let items: Vec<Recording> = manifest
+        .items
+        .par_iter()
+        .filter(|it| it.split == Split::Val)
+        .map(|it| load_corpus_item(&dir.join(&it.dir), &it.dir, &it.violin))
+        .collect::<Result<_, _>>()?;
+    Ok(items)
+}
+
+type Probs = Vec<Vec<f32>>;
+
+/// (network alone, ensemble) change probabilities of every recording.
+fn probabilities(
+    cnn: &BowChangeDetector,
+    net: &StrokeDetector,
+    recs: &[Recording],
+) -> Result<(Probs, Probs), Box<dyn std::error::Error>> {
+    let mut alone = Vec::with_capacity(recs.len());
+    let mut ensemble = Vec::with_capacity(recs.len());
+    for r in recs {
+        let a = cnn.frame_probabilities(r.mel_db.view())?;
+        let b = net.frame_outputs(r.mel_db.view())?.change;
+        ensemble.push(a.iter().zip(&b).map(|(x, y)| 0.5 * (x + y)).collect());
+        alone.push(b);
+    }
+    Ok((alone, ensemble))
+}
+
+fn f1s(
+    d: &Decoder,
+    p: &(Probs, Probs),
+    q: &(Probs, Probs),
+    heard: &[Recording],
+    unheard: &[Recording],
+    ensemble: bool,
+) -> [f64; 3] {
+    let pick = |x: &(Probs, Probs)| if ensemble { x.1.clone() } else { x.0.clone() };
+    let (a, b) = (pick(p), pick(q));
+    let all_p: Probs = a.iter().chain(&b).cloned().collect();
+    let all_r: Vec<Recording> = heard.iter().chain(unheard).cloned().collect();
+    [
+        decoder_f1(&a, heard, d),
+        decoder_f1(&b, unheard, d),
+        decoder_f1(&all_p, &all_r, d),
+    ]
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let usage = "usage: validation_violin CORPUS VAL_VIOLIN_CORPUS W.safetensors [W2 …] [--write]";
+    let write = args.iter().any(|a| a == "--write");
+    let paths: Vec<PathBuf> = args
+        .iter()
+        .filter(|a| !a.starts_with("--"))
+        .map(PathBuf::from)
+        .collect();
+    let [corpus, other, weights @ ..] = paths.as_slice() else {
+        return Err(usage.into());
+    };
+    if weights.is_empty() {
+        return Err(usage.into());
+    }
+    let heard = validation_items(corpus)?;
+    let unheard = validation_items(other)?;
+    eprintln!(
+        "{} validation items on the training violins, {} on {}",
+        heard.len(),
+        unheard.len(),
+        unheard.first().map_or("?", |r| r.group.as_str())
+    );
+    let cnn = BowChangeDetector::pretrained()?;
+    println!("| weights | decoder | training violins | unheard violin | both |");
+    println!("|---|---|---|---|---|");
+    for (k, w) in weights.iter().enumerate() {
+        let mut net = StrokeDetector::load(w)?;
+        let p = probabilities(&cnn, &net, &heard)?;
+        let q = probabilities(&cnn, &net, &unheard)?;
+        let row = |what: String, f: [f64; 3]| {
+            println!(
+                "| {} | {what} | {:.3} | {:.3} | {:.3} |",
+                w.display(),
+                f[0],
+                f[1],
+                f[2]
+            );
+        };
+        let own = net.decoder();
+        row(
+            format!("network alone, {own:?}"),
+            f1s(&own, &p, &q, &heard, &unheard, false),
+        );
+        let all_p: Probs = p.1.iter().chain(&q.1).cloned().collect();
+        let all_r: Vec<Recording> = heard.iter().chain(&unheard).cloned().collect();
+        let (tuned, tuned_f1) = tune_decoder(&all_p, &all_r);
+        let stored = net.ensemble_decoder();
+        if let Some(s) = stored {
+            row(
+                format!("ensemble, stored {s:?}"),
+                f1s(&s, &p, &q, &heard, &unheard, true),
+            );
+        }
+        row(
+            format!("ensemble, re-tuned on both {tuned:?}"),
+            f1s(&tuned, &p, &q, &heard, &unheard, true),
+        );
+        if write && k == 0 {
+            let stored_f1 = stored.map_or(f64::NEG_INFINITY, |s| decoder_f1(&all_p, &all_r, &s));
+            if tuned_f1 >= stored_f1 + MIN_DECODER_GAIN_F1 {
+                net.set_ensemble_decoder(Some(tuned));
+                net.save(w)?;
+                eprintln!(
+                    "{}: ensemble decoder {tuned:?} written ({tuned_f1:.3} against {stored_f1:.3})",
+                    w.display()
+                );
+            } else {
+                eprintln!(
+                    "{}: stored decoder kept ({stored_f1:.3}; re-tuned {tuned_f1:.3})",
+                    w.display()
+                );
+            }
+        }
+    }
+    Ok(())
+}
