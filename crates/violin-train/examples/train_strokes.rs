@@ -8,10 +8,13 @@
 //! cargo run --release -p violin-train --example train_strokes -- CORPUS OUT.safetensors EPOCHS --init W.safetensors --lr 5e-4 --seed 2 [--direction-weight 2] [--eq-db 6]
 //! cargo run --release -p violin-train --example train_strokes -- CORPUS --eval W.safetensors [--write-ensemble]
 //! cargo run --release -p violin-train --example train_strokes -- CORPUS OUT.safetensors EPOCHS --val-violin waveguide
+//! cargo run --release -p violin-train --example train_strokes -- CORPUS OUT.safetensors EPOCHS --init W --eq-db 6 --extra-val VAL_VIOLIN_CORPUS
 //! ```
 //!
 //! `--val-violin NAME` moves the training items of one violin source into validation, so the
 //! network never hears that violin and validation measures what a new violin costs.
+//! `--extra-val DIR` adds the validation items of a validation-violin corpus (`violin-skeleton
+//! corpus … --validation-violin V`) to validation: epochs and decoders are then chosen on both.
 //!
 //! After training (or with `--write-ensemble`), the decoder of the mean of the CNN's and the
 //! stroke network's change probabilities is tuned on the validation split and stored in the
@@ -30,7 +33,9 @@ use bowing_net::stroke::metrics::{score_recordings, StrokeScores};
 use bowing_net::stroke::train::{train_strokes, StrokeTrainConfig};
 use bowing_net::stroke::StrokeDetector;
 use bowing_net::{BowChangeDetector, BowingModel};
-use violin_train::bowing_data::{load_dataset, read_manifest};
+use violin_train::bowing_data::{
+    add_validation_violin, load_dataset, move_violin_to_validation, read_manifest,
+};
 use violin_train::evaluate::Tally;
 use violin_train::stroke_directions::{
     direction_accuracy, direction_case, pooled_accuracy, tune_direction_decoder, DirectionCase,
@@ -55,7 +60,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .and_then(|i| args.get(i + 1))
         .cloned();
     if let Some(violin) = &val_violin {
-        move_violin_to_validation(&corpus, violin, &mut data)?;
+        let n = move_violin_to_validation(&corpus, violin, &mut data)?;
+        eprintln!("validation violin {violin}: {n} training items moved to validation");
+    }
+    if let Some(extra) = args
+        .iter()
+        .position(|a| a == "--extra-val")
+        .and_then(|i| args.get(i + 1))
+    {
+        let n = add_validation_violin(std::path::Path::new(extra), &mut data)?;
+        eprintln!("{extra}: {n} validation items added to validation");
     }
     eprintln!(
         "loaded {} train / {} val / {} test recordings in {:.0} s",
@@ -126,35 +140,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         write_ensemble,
         val_violin.as_deref(),
     )
-}
-
-/// Moves the training items played by `violin` into the validation set, so that the
-/// network never trains on that violin and validation sees how a new violin fares.
-fn move_violin_to_validation(
-    corpus: &std::path::Path,
-    violin: &str,
-    data: &mut bowing_net::data::Splits,
-) -> Result<(), Box<dyn std::error::Error>> {
-    let manifest = read_manifest(corpus)?;
-    let played_by: std::collections::BTreeSet<&str> = manifest
-        .items
-        .iter()
-        .filter(|i| i.violin == violin)
-        .map(|i| i.dir.as_str())
-        .collect();
-    if played_by.is_empty() {
-        return Err(format!("{}: no item is played by violin {violin}", corpus.display()).into());
-    }
-    let (moved, kept): (Vec<Recording>, Vec<Recording>) = std::mem::take(&mut data.train)
-        .into_iter()
-        .partition(|r| played_by.contains(r.name.as_str()));
-    data.train = kept;
-    eprintln!(
-        "validation violin {violin}: {} training items moved to validation",
-        moved.len()
-    );
-    data.val.extend(moved);
-    Ok(())
 }
 
 /// The mean of the CNN's and the stroke network's change probabilities.

@@ -365,3 +365,46 @@ pub fn load_urmp(
     }
     Ok(out)
 }
+
+/// Moves the training items played by `violin` (a source of the corpus's manifest) into
+/// the validation set, so that the network never trains on that violin and validation sees
+/// how a new violin fares. Returns how many were moved; a violin no item uses is an error.
+pub fn move_violin_to_validation(corpus: &Path, violin: &str, data: &mut Splits) -> Result<usize> {
+    let manifest = read_manifest(corpus)?;
+    let played_by: std::collections::BTreeSet<&str> = manifest
+        .items
+        .iter()
+        .filter(|i| i.violin == violin)
+        .map(|i| i.dir.as_str())
+        .collect();
+    if played_by.is_empty() {
+        return Err(NetError::data(
+            corpus.join("manifest.json"),
+            format!("no item is played by violin {violin}"),
+        )
+        .into());
+    }
+    let (moved, kept): (Vec<Recording>, Vec<Recording>) = std::mem::take(&mut data.train)
+        .into_iter()
+        .partition(|r| played_by.contains(r.name.as_str()));
+    data.train = kept;
+    let n = moved.len();
+    data.val.extend(moved);
+    Ok(n)
+}
+
+/// Adds the validation items of a validation-violin corpus (`violin-skeleton corpus …
+/// --validation-violin V`: the same items played by a violin training never hears) to
+/// `data`'s validation set, each named by its folder's absolute path so that its audio can
+/// be found from the name. Returns how many were added.
+pub fn add_validation_violin(dir: &Path, data: &mut Splits) -> Result<usize> {
+    let root = std::fs::canonicalize(dir)
+        .map_err(|e| NetError::data(dir, format!("cannot open the corpus folder ({e})")))?;
+    let extra = load_dataset(&root, &|_, _| {})?;
+    let n = extra.val.len();
+    for mut r in extra.val {
+        r.name = root.join(&r.name).display().to_string();
+        data.val.push(r);
+    }
+    Ok(n)
+}
