@@ -48,12 +48,27 @@ fn tiny_repertoire(dir: &Path) -> std::io::Result<()> {
     std::fs::write(dir.join("reserved.json"), reserved)
 }
 
-fn sf2_dir() -> Option<&'static Path> {
+fn sf2_dir() -> &'static Path {
     let d = Path::new(corpus::violins::SYSTEM_SF2_DIR);
-    ["FluidR3_GM.sf2", "TimGM6mb.sf2", "sf_GMbank.sf2"]
-        .iter()
-        .all(|f| d.join(f).is_file())
-        .then_some(d)
+    assert!(
+        ["FluidR3_GM.sf2", "TimGM6mb.sf2", "sf_GMbank.sf2"]
+            .iter()
+            .all(|f| d.join(f).is_file()),
+        "the Debian SoundFonts are missing: apt-get install fluid-soundfont-gm timgm6mb-soundfont csound-soundfont (.ci/run installs them)"
+    );
+    d
+}
+
+/// A many-violin corpus config over the tiny repertoire written into `rep`.
+fn many_config(rep: &Path, minutes: f64, seed: u64) -> CorpusConfig {
+    tiny_repertoire(rep).unwrap();
+    CorpusConfig {
+        minutes,
+        seed,
+        renderer: RendererChoice::Many(sf2_dir().to_path_buf()),
+        repertoire: Some(rep.to_path_buf()),
+        ..CorpusConfig::default()
+    }
 }
 
 #[test]
@@ -80,19 +95,9 @@ fn repertoire_reader_skips_broken_and_reserved_files() {
 
 #[test]
 fn many_violin_corpus_splits_by_work_and_violin() {
-    let Some(sf2) = sf2_dir() else {
-        panic!("the Debian SoundFonts are missing: apt-get install fluid-soundfont-gm timgm6mb-soundfont csound-soundfont (.ci/run installs them)");
-    };
     let rep = tempfile::tempdir().unwrap();
-    tiny_repertoire(rep.path()).unwrap();
     let out = tempfile::tempdir().unwrap();
-    let cfg = CorpusConfig {
-        minutes: 2.5,
-        seed: 4,
-        renderer: RendererChoice::Many(sf2.to_path_buf()),
-        repertoire: Some(rep.path().to_path_buf()),
-        ..CorpusConfig::default()
-    };
+    let cfg = many_config(rep.path(), 2.5, 4);
     let m = build_corpus(out.path(), &cfg, &|_, _| {}).unwrap();
     assert!(m.stats.minutes >= 2.5, "{} min", m.stats.minutes);
     assert!(
@@ -206,21 +211,11 @@ fn many_violin_corpus_splits_by_work_and_violin() {
 
 #[test]
 fn a_validation_violin_renders_only_the_validation_items_with_the_same_labels() {
-    let Some(sf2) = sf2_dir() else {
-        panic!("the Debian SoundFonts are missing: apt-get install fluid-soundfont-gm timgm6mb-soundfont csound-soundfont (.ci/run installs them)");
-    };
     let rep = tempfile::tempdir().unwrap();
-    tiny_repertoire(rep.path()).unwrap();
     let fonts = tempfile::tempdir().unwrap();
     let violin = fonts.path().join("tiny.sf2");
     std::fs::write(&violin, corpus::render::tiny_violin_sf2()).unwrap();
-    let cfg = CorpusConfig {
-        minutes: 2.0,
-        seed: 5,
-        renderer: RendererChoice::Many(sf2.to_path_buf()),
-        repertoire: Some(rep.path().to_path_buf()),
-        ..CorpusConfig::default()
-    };
+    let cfg = many_config(rep.path(), 2.0, 5);
     let (plain, heard) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
     let m = build_corpus(plain.path(), &cfg, &|_, _| {}).unwrap();
     let with_violin = CorpusConfig {

@@ -147,13 +147,9 @@ pub fn sf2_from_gus_patch(bytes: &[u8]) -> Result<Vec<u8>, RenderError> {
 impl SoundFontRenderer {
     /// A renderer playing the GUS patch (`.pat`) at `path` (module `gus_patch`).
     pub fn from_gus_patch_file(path: impl AsRef<Path>) -> Result<Self, RenderError> {
-        let path = path.as_ref();
-        let bytes = std::fs::read(path).map_err(|e| {
-            RenderError::SoundFont(format!("{}: cannot read ({e})", path.display()))
-        })?;
-        let sf2 = sf2_from_gus_patch(&bytes)
-            .map_err(|e| RenderError::SoundFont(format!("{}: {e}", path.display())))?;
-        Self::from_bytes(&sf2)
+        Self::from_file_with(path.as_ref(), |bytes| {
+            Self::from_bytes(&sf2_from_gus_patch(bytes)?)
+        })
     }
 }
 

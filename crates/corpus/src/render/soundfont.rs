@@ -40,12 +40,19 @@ impl std::fmt::Debug for SoundFontRenderer {
 impl SoundFontRenderer {
     /// Reads an SF2 file (SF3/Ogg-compressed fonts are not supported by rustysynth).
     pub fn from_file(path: impl AsRef<Path>) -> Result<Self, RenderError> {
-        let path = path.as_ref();
+        Self::from_file_with(path.as_ref(), Self::from_bytes)
+    }
+
+    /// Reads the file at `path` and makes a renderer of its bytes with `parse`; errors name
+    /// the file.
+    pub(crate) fn from_file_with(
+        path: &Path,
+        parse: impl FnOnce(&[u8]) -> Result<Self, RenderError>,
+    ) -> Result<Self, RenderError> {
         let bytes = std::fs::read(path).map_err(|e| {
             RenderError::SoundFont(format!("{}: cannot read ({e})", path.display()))
         })?;
-        Self::from_bytes(&bytes)
-            .map_err(|e| RenderError::SoundFont(format!("{}: {e}", path.display())))
+        parse(&bytes).map_err(|e| RenderError::SoundFont(format!("{}: {e}", path.display())))
     }
 
     /// Parses SF2 bytes.
