@@ -60,15 +60,15 @@ fn sf2_dir() -> &'static Path {
 }
 
 /// A many-violin corpus config over the tiny repertoire written into `rep`.
-fn many_config(rep: &Path, minutes: f64, seed: u64) -> CorpusConfig {
-    tiny_repertoire(rep).unwrap();
-    CorpusConfig {
+fn many_config(rep: &Path, minutes: f64, seed: u64) -> std::io::Result<CorpusConfig> {
+    tiny_repertoire(rep)?;
+    Ok(CorpusConfig {
         minutes,
         seed,
         renderer: RendererChoice::Many(sf2_dir().to_path_buf()),
         repertoire: Some(rep.to_path_buf()),
         ..CorpusConfig::default()
-    }
+    })
 }
 
 #[test]
@@ -97,7 +97,7 @@ fn repertoire_reader_skips_broken_and_reserved_files() {
 fn many_violin_corpus_splits_by_work_and_violin() {
     let rep = tempfile::tempdir().unwrap();
     let out = tempfile::tempdir().unwrap();
-    let cfg = many_config(rep.path(), 2.5, 4);
+    let cfg = many_config(rep.path(), 2.5, 4).unwrap();
     let m = build_corpus(out.path(), &cfg, &|_, _| {}).unwrap();
     assert!(m.stats.minutes >= 2.5, "{} min", m.stats.minutes);
     assert!(
@@ -215,7 +215,7 @@ fn a_validation_violin_renders_only_the_validation_items_with_the_same_labels() 
     let fonts = tempfile::tempdir().unwrap();
     let violin = fonts.path().join("tiny.sf2");
     std::fs::write(&violin, corpus::render::tiny_violin_sf2()).unwrap();
-    let cfg = many_config(rep.path(), 2.0, 5);
+    let cfg = many_config(rep.path(), 2.0, 5).unwrap();
     let (plain, heard) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
     let m = build_corpus(plain.path(), &cfg, &|_, _| {}).unwrap();
     let with_violin = CorpusConfig {
