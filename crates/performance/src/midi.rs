@@ -13,7 +13,9 @@
 //!   it starts within 1 ms of the previous note's end (legato: a separate bow leaves a
 //!   gap), the slur has fewer than 6 notes (8 when notes are shorter than 0.2 s), the bow
 //!   has been moving for less than 3 s, it is not the first note of a bar, and its
-//!   velocity is within 10 of the previous one; every other note
+//!   velocity is within 10 of the previous one (so a file whose notes all join, e.g. one
+//!   exported with every note at its full written length, is bowed in slurs of up to 6
+//!   notes broken at bar lines; shorten détaché notes to keep them apart); every other note
 //!   starts a new stroke; where a bar would then start up-bow, the two strokes before it
 //!   are hooked into one bow when that is playable ([`crate::hooks_for_downbeats`]);
 //!   directions follow [`crate::bow_directions`];
