@@ -47,24 +47,6 @@ impl Sums {
     }
 }
 
-fn pearson(a: &[f32], b: &[f32]) -> Option<f64> {
-    let n = a.len().min(b.len());
-    if n < 3 {
-        return None;
-    }
-    let (a, b) = (&a[..n], &b[..n]);
-    let ma = a.iter().map(|&x| f64::from(x)).sum::<f64>() / n as f64;
-    let mb = b.iter().map(|&x| f64::from(x)).sum::<f64>() / n as f64;
-    let (mut sab, mut saa, mut sbb) = (0.0, 0.0, 0.0);
-    for (&x, &y) in a.iter().zip(b) {
-        let (x, y) = (f64::from(x) - ma, f64::from(y) - mb);
-        sab += x * y;
-        saa += x * x;
-        sbb += y * y;
-    }
-    (saa > 0.0 && sbb > 0.0).then(|| sab / (saa * sbb).sqrt())
-}
-
 /// Share of `pairs` for which `same` holds (None without pairs).
 fn share(pairs: &[(usize, usize)], same: impl Fn(usize, usize) -> bool) -> Option<f64> {
     (!pairs.is_empty())
@@ -137,7 +119,10 @@ fn compare(midi: &Analysis, audio: &Analysis, sums: &mut Sums) {
     );
     sums.add(
         "arousal correlation",
-        pearson(&midi.arousal.values, &audio.arousal.values),
+        Some(emotion_net::estimator::pearson(
+            &midi.arousal.values,
+            &audio.arousal.values,
+        )),
     );
 }
 

@@ -149,8 +149,9 @@ fn ensemble_probs(
     r: &Recording,
 ) -> Result<Vec<f32>, Box<dyn std::error::Error>> {
     let a = cnn.frame_probabilities(r.mel_db.view())?;
-    let b = strokes.frame_outputs(r.mel_db.view())?.change;
-    Ok(a.iter().zip(&b).map(|(x, y)| 0.5 * (x + y)).collect())
+    let mut b = strokes.frame_outputs(r.mel_db.view())?.change;
+    bowing_net::stroke::average_changes(&mut b, &a);
+    Ok(b)
 }
 
 fn report(

@@ -17,22 +17,13 @@ use bowing_net::data::Recording;
 use bowing_net::metrics::{decoder_f1, tune_decoder};
 use bowing_net::stroke::StrokeDetector;
 use bowing_net::{BowChangeDetector, Decoder};
-use corpus::manifest::Split;
-use rayon::prelude::*;
-use violin_train::bowing_data::{load_corpus_item, read_manifest};
+use violin_train::bowing_data::load_dataset;
 
 /// The validation F1 a re-tuned decoder must gain to replace a stored one.
 const MIN_DECODER_GAIN_F1: f64 = 0.005;
 
 fn validation_items(dir: &Path) -> Result<Vec<Recording>, Box<dyn std::error::Error>> {
-    let manifest = read_manifest(dir)?;
-    let items: Vec<Recording> = manifest
-        .items
-        .par_iter()
-        .filter(|it| it.split == Split::Val)
-        .map(|it| load_corpus_item(&dir.join(&it.dir), &it.dir, &it.violin))
-        .collect::<Result<_, _>>()?;
-    Ok(items)
+    Ok(load_dataset(dir, &|_, _| {})?.val)
 }
 
 type Probs = Vec<Vec<f32>>;
@@ -48,7 +39,9 @@ fn probabilities(
     for r in recs {
         let a = cnn.frame_probabilities(r.mel_db.view())?;
         let b = net.frame_outputs(r.mel_db.view())?.change;
-        ensemble.push(a.iter().zip(&b).map(|(x, y)| 0.5 * (x + y)).collect());
+        let mut mean = b.clone();
+        bowing_net::stroke::average_changes(&mut mean, &a);
+        ensemble.push(mean);
         alone.push(b);
     }
     Ok((alone, ensemble))
@@ -91,10 +84,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let heard = validation_items(corpus)?;
     let unheard = validation_items(other)?;
     eprintln!(
-        "{} validation items on the training violins, {} on {}",
+        "{} validation items on the training violins, {} in {}",
         heard.len(),
         unheard.len(),
-        unheard.first().map_or("?", |r| r.group.as_str())
+        other.display()
     );
     let cnn = BowChangeDetector::pretrained()?;
     println!("| weights | decoder | training violins | unheard violin | both |");

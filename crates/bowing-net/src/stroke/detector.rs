@@ -289,9 +289,7 @@ impl StrokeDetector {
         let mut frames = self.net.frame_outputs(&input)?;
         let mut decoder = self.decoder;
         if let Some(other) = other_change {
-            for (p, o) in frames.change.iter_mut().zip(other) {
-                *p = 0.5 * (*p + o);
-            }
+            average_changes(&mut frames.change, other);
             decoder = self.ensemble_decoder.unwrap_or(decoder);
         }
         let stretches = played(&input);
@@ -310,5 +308,19 @@ impl StrokeDetector {
     /// [`StrokeDetector::analyze_mel`] of a recording.
     pub fn analyze_audio(&self, audio: &dsp_mel::Audio) -> Result<StrokeAnalysis> {
         self.analyze_mel(crate::features::bowing_mel(audio)?.view())
+    }
+}
+
+/// The ensemble's change probability: `own` (the stroke network's, per frame) becomes its
+/// mean with `other` (the CNN's), as the shipped analysis combines them.
+///
+/// ```
+/// let mut own = vec![0.2f32, 0.8];
+/// bowing_net::stroke::average_changes(&mut own, &[0.6, 0.4]);
+/// assert_eq!(own, vec![0.4, 0.6]);
+/// ```
+pub fn average_changes(own: &mut [f32], other: &[f32]) {
+    for (p, o) in own.iter_mut().zip(other) {
+        *p = 0.5 * (*p + o);
     }
 }

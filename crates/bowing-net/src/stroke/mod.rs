@@ -25,7 +25,7 @@ pub mod timbre;
 pub mod train;
 
 pub use detector::{
-    played, stroke_shapes, StrokeAnalysis, StrokeDetector, STROKE_FORMAT_NAME,
+    average_changes, played, stroke_shapes, StrokeAnalysis, StrokeDetector, STROKE_FORMAT_NAME,
     STROKE_FORMAT_VERSION,
 };
 pub use input::{
