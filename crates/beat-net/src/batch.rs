@@ -134,23 +134,6 @@ pub fn random_crop(
     Crop { input, targets }
 }
 
-/// Moves the first `bands` features of every frame of `input` (`width` features per frame)
-/// up by `shift` bands (down when negative), repeating the edge band into the gap.
-pub fn shift_bands(input: &mut [f32], width: usize, bands: usize, shift: i64) {
-    if shift == 0 || bands == 0 || bands > width {
-        return;
-    }
-    let mut row = vec![0.0f32; bands];
-    for frame in input.chunks_exact_mut(width) {
-        let src = &frame[..bands];
-        for (b, r) in row.iter_mut().enumerate() {
-            let from = (b as i64 - shift).clamp(0, bands as i64 - 1) as usize;
-            *r = src[from];
-        }
-        frame[..bands].copy_from_slice(&row);
-    }
-}
-
 /// What a quiet crop holds (see [`quiet_mel`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Quiet {
@@ -256,18 +239,6 @@ mod tests {
         assert!(c.targets.weights[350] == 0.0 && c.targets.weights[10] == 1.0);
         let c = random_crop(&rec(), 100, (0.8, 1.25), 0.5, &mut rng);
         assert!(c.targets.weights.iter().all(|w| *w > 0.0));
-    }
-
-    #[test]
-    fn band_shift_moves_the_mel_and_not_the_extra_features() {
-        // Two frames of 4 bands + 1 extra feature.
-        let mut x = vec![1.0, 2.0, 3.0, 4.0, 9.0, 5.0, 6.0, 7.0, 8.0, 9.5];
-        shift_bands(&mut x, 5, 4, 1);
-        assert_eq!(x, vec![1.0, 1.0, 2.0, 3.0, 9.0, 5.0, 5.0, 6.0, 7.0, 9.5]);
-        shift_bands(&mut x, 5, 4, -2);
-        assert_eq!(x, vec![2.0, 3.0, 3.0, 3.0, 9.0, 6.0, 7.0, 7.0, 7.0, 9.5]);
-        shift_bands(&mut x, 5, 6, 1); // more bands than the frame: untouched
-        assert_eq!(x[0], 2.0);
     }
 
     #[test]

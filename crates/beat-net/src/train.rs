@@ -11,12 +11,13 @@ use std::path::Path;
 use std::time::Instant;
 
 use candle_core::{Device, Tensor};
+use net_core::frames::shift_bands;
 use net_core::rng::Rng;
 use net_core::{set_band_statistics, vars, Adam, AdamConfig, LrSchedule, TrainState};
 use serde::{Deserialize, Serialize};
 
 use crate::activation::{probabilities, BeatActivation};
-use crate::batch::{quiet_crop, random_crop, shift_bands, targets};
+use crate::batch::{quiet_crop, random_crop, targets};
 use crate::data::{Recording, Splits};
 use crate::error::{BeatNetError, Result};
 use crate::features::{EXTRA_FEATURES, FPS};

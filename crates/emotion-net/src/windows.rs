@@ -89,7 +89,12 @@ pub(crate) fn window_batch(
         );
         let shift = shifts.get(k).copied().unwrap_or(0);
         if shift != 0 {
-            shift_bands(&mut x[k * t * bands..][..t * bands], bands, shift);
+            net_core::frames::shift_bands(
+                &mut x[k * t * bands..][..t * bands],
+                bands,
+                bands,
+                shift,
+            );
         }
         for j in 0..t {
             if let Some(&a) = (s + j)
@@ -106,31 +111,4 @@ pub(crate) fn window_batch(
         Tensor::from_vec(y, (b, t), &Device::Cpu)?,
         Tensor::from_vec(mask, (b, t), &Device::Cpu)?,
     ))
-}
-
-/// Shifts every `bands`-long row of `frames` up by `shift` bands (down when negative),
-/// repeating the edge band into the vacated places.
-fn shift_bands(frames: &mut [f32], bands: usize, shift: i64) {
-    let mut row = vec![0.0f32; bands];
-    let last = bands as i64 - 1;
-    for dst in frames.chunks_exact_mut(bands) {
-        row.copy_from_slice(dst);
-        for (b, d) in dst.iter_mut().enumerate() {
-            *d = row[(b as i64 - shift).clamp(0, last) as usize];
-        }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn band_shift_moves_rows_and_repeats_edges() {
-        let mut x = vec![0.0, 1.0, 2.0, 3.0, 10.0, 11.0, 12.0, 13.0];
-        shift_bands(&mut x, 4, 1);
-        assert_eq!(x, vec![0.0, 0.0, 1.0, 2.0, 10.0, 10.0, 11.0, 12.0]);
-        shift_bands(&mut x, 4, -2);
-        assert_eq!(x, vec![1.0, 2.0, 2.0, 2.0, 11.0, 12.0, 12.0, 12.0]);
-    }
 }

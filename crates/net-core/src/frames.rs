@@ -1,6 +1,7 @@
 //! Checks and windowing of a `(frames, bands)` spectrogram as the networks take it: the input
 //! checks every network runs before inference, and the copy of a run of frames (padded with
-//! silence outside the recording) into a window buffer.
+//! silence outside the recording) into a window buffer, and the mel band shift the training
+//! loops use as a pitch/timbre augmentation.
 
 use ndarray::ArrayView2;
 
@@ -64,5 +65,58 @@ pub fn copy_frames(mel: ArrayView2<f32>, first: isize, len: usize, pad: f32, dst
         } else {
             row.fill(pad);
         }
+    }
+}
+
+/// Moves the first `bands` features of every frame of `input` (`width` features per frame)
+/// up by `shift` bands (down when negative), repeating the edge band into the gap; the
+/// features after the first `bands` (onset, pitch) are left alone. Nothing moves when
+/// `shift` or `bands` is 0 or `bands > width`.
+///
+/// ```
+/// // Two frames of 4 mel bands and 1 extra feature.
+/// let mut x = [1.0f32, 2.0, 3.0, 4.0, 9.0, 5.0, 6.0, 7.0, 8.0, 9.5];
+/// net_core::frames::shift_bands(&mut x, 5, 4, 1);
+/// assert_eq!(x, [1.0, 1.0, 2.0, 3.0, 9.0, 5.0, 5.0, 6.0, 7.0, 9.5]);
+/// ```
+pub fn shift_bands(input: &mut [f32], width: usize, bands: usize, shift: i64) {
+    if shift == 0 || bands == 0 || bands > width {
+        return;
+    }
+    let mut row = vec![0.0f32; bands];
+    let last = bands as i64 - 1;
+    for frame in input.chunks_exact_mut(width) {
+        row.copy_from_slice(&frame[..bands]);
+        for (b, d) in frame[..bands].iter_mut().enumerate() {
+            *d = row[(b as i64 - shift).clamp(0, last) as usize];
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::shift_bands;
+
+    #[test]
+    fn band_shift_moves_the_mel_and_not_the_extra_features() {
+        // Two frames of 4 bands + 1 extra feature.
+        let mut x = vec![1.0, 2.0, 3.0, 4.0, 9.0, 5.0, 6.0, 7.0, 8.0, 9.5];
+        shift_bands(&mut x, 5, 4, 1);
+        assert_eq!(x, vec![1.0, 1.0, 2.0, 3.0, 9.0, 5.0, 5.0, 6.0, 7.0, 9.5]);
+        shift_bands(&mut x, 5, 4, -2);
+        assert_eq!(x, vec![2.0, 3.0, 3.0, 3.0, 9.0, 6.0, 7.0, 7.0, 7.0, 9.5]);
+        shift_bands(&mut x, 5, 6, 1); // more bands than the frame: untouched
+        assert_eq!(x[0], 2.0);
+    }
+
+    #[test]
+    fn band_shift_of_whole_rows_repeats_both_edges() {
+        let mut x = vec![0.0, 1.0, 2.0, 3.0, 10.0, 11.0, 12.0, 13.0];
+        shift_bands(&mut x, 4, 4, 1);
+        assert_eq!(x, vec![0.0, 0.0, 1.0, 2.0, 10.0, 10.0, 11.0, 12.0]);
+        shift_bands(&mut x, 4, 4, -2);
+        assert_eq!(x, vec![1.0, 2.0, 2.0, 2.0, 11.0, 12.0, 12.0, 12.0]);
+        shift_bands(&mut x, 4, 0, 3); // no bands: untouched
+        assert_eq!(x[0], 1.0);
     }
 }
