@@ -35,6 +35,7 @@ impl std::fmt::Debug for LoadedModels {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("LoadedModels")
             .field("bowing", &self.bowing.get().is_some())
+            .field("beat", &self.beat.get().is_some())
             .field("emotion", &self.emotion.get().is_some())
             .finish_non_exhaustive()
     }
@@ -54,9 +55,12 @@ impl LoadedModels {
         })
     }
 
-    /// The beat/downbeat activation network (the embedded default).
-    pub(crate) fn beat(&self) -> Result<Arc<BeatActivation>> {
-        get(&self.beat, networks::pretrained_beat)
+    /// The beat/downbeat activation network: from `path`, or the embedded default.
+    pub(crate) fn beat(&self, path: Option<&Path>) -> Result<Arc<BeatActivation>> {
+        get(&self.beat, || match path {
+            Some(p) => networks::load_beat(p),
+            None => networks::pretrained_beat(),
+        })
     }
 
     /// The arousal estimator: from `path`, or the embedded default.

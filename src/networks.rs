@@ -1,6 +1,5 @@
 //! The trained models behind the pipeline: the bowing model (stroke network or CNN), the
-//! arousal CRNN and the
-//! Method 1 GRU. The embedded defaults are loaded once per process and shared.
+//! beat/downbeat activation network, the arousal CRNN and the Method 1 GRU. The embedded defaults are loaded once per process and shared.
 
 use std::path::Path;
 use std::sync::{Arc, OnceLock};
@@ -103,6 +102,13 @@ pub fn pretrained_gru() -> Result<Arc<GruBaseline>> {
 /// User-trained bowing weights (either network).
 pub fn load_bowing(path: &Path) -> Result<Arc<BowingModel>> {
     BowingModel::load(path)
+        .map(Arc::new)
+        .map_err(|e| load_err(path, e))
+}
+
+/// User-trained beat/downbeat weights (`train_beats`).
+pub fn load_beat(path: &Path) -> Result<Arc<BeatActivation>> {
+    BeatActivation::load(path)
         .map(Arc::new)
         .map_err(|e| load_err(path, e))
 }

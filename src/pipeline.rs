@@ -73,6 +73,7 @@ pub struct Pipeline {
     bowing_weights: Option<PathBuf>,
     bowing_network: BowingNetwork,
     emotion_weights: Option<PathBuf>,
+    beat_weights: Option<PathBuf>,
     gru_weights: Option<PathBuf>,
     chunking: Chunking,
     beat_method: BeatMethod,
@@ -161,6 +162,13 @@ impl PipelineBuilder {
     /// Arousal CRNN weights trained with `violin-skeleton train emotion`.
     pub fn emotion_weights(mut self, path: impl Into<PathBuf>) -> Self {
         self.inner.emotion_weights = Some(path.into());
+        self
+    }
+
+    /// Beat/downbeat activation weights trained with the `train_beats` example (used with
+    /// [`BeatMethod::Learned`]).
+    pub fn beat_weights(mut self, path: impl Into<PathBuf>) -> Self {
+        self.inner.beat_weights = Some(path.into());
         self
     }
 
@@ -274,7 +282,7 @@ impl Pipeline {
             let bowed = networks::bowing_of_mel(&bowing, mel.view())?;
             let activations = match self.beat_method {
                 BeatMethod::Learned => Some(networks::beat_activations(
-                    &*self.models.beat()?,
+                    &*self.models.beat(self.beat_weights.as_deref())?,
                     mel.view(),
                 )?),
                 BeatMethod::Classic => None,

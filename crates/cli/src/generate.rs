@@ -142,7 +142,8 @@ pub fn write_motion(
     Ok(())
 }
 
-/// The `--bowing-weights` / `--emotion-weights` flags of every command that analyses audio
+/// The `--bowing-weights` / `--emotion-weights` / `--beat-weights` flags of every command
+/// that analyses audio
 /// (`None`: the embedded defaults).
 #[derive(Debug, Clone, Default, Args)]
 pub struct AnalysisWeights {
@@ -162,6 +163,10 @@ pub struct AnalysisWeights {
     /// (onset tempogram + dynamic programming; no learned weights).
     #[arg(long, value_enum, default_value_t = BeatArg::Learned)]
     pub beats: BeatArg,
+    /// Beat/downbeat network weights from the `train_beats` example, for `--beats learned`
+    /// (default: embedded).
+    #[arg(long)]
+    pub beat_weights: Option<PathBuf>,
 }
 
 /// The `--beats` choice.
@@ -207,6 +212,9 @@ impl AnalysisWeights {
         if let Some(p) = &self.emotion_weights {
             v.push(named("--emotion-weights", p));
         }
+        if let Some(p) = &self.beat_weights {
+            v.push(named("--beat-weights", p));
+        }
         v
     }
 
@@ -222,6 +230,9 @@ impl AnalysisWeights {
         }
         if let Some(p) = &self.emotion_weights {
             builder = builder.emotion_weights(p);
+        }
+        if let Some(p) = &self.beat_weights {
+            builder = builder.beat_weights(p);
         }
         builder.beat_method(match self.beats {
             BeatArg::Learned => violin_skeleton::BeatMethod::Learned,

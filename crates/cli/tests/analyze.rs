@@ -183,15 +183,70 @@ fn weight_flags_load_the_given_files() {
     let w = w.as_str();
 
     // A file that is not emotion-net weights is one readable error naming it.
-    std::fs::remove_file(&out).unwrap();
-    let st = analyze(&wav, &out, &["--emotion-weights", w]);
+    refused_naming(&wav, &out, "--emotion-weights", w, "stroke-net.safetensors");
+}
+
+/// `analyze WAV -o OUT FLAG FILE` fails with one `error:` line naming `name` once, and
+/// writes nothing.
+fn refused_naming(wav: &Path, out: &Path, flag: &str, file: &str, name: &str) {
+    if out.exists() {
+        std::fs::remove_file(out).unwrap();
+    }
+    let st = analyze(wav, out, &[flag, file]);
     assert_eq!(st.status.code(), Some(1));
     let err = String::from_utf8_lossy(&st.stderr);
     assert!(
-        err.starts_with("error:")
-            && err.matches("stroke-net.safetensors").count() == 1
-            && err.lines().count() == 1,
+        err.starts_with("error:") && err.matches(name).count() == 1 && err.lines().count() == 1,
         "{err}"
     );
     assert!(!out.exists());
+}
+
+#[test]
+fn beat_weights_flag_loads_the_given_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let item = clean_etude(3, 12.0, (100.0, 100.0)).unwrap();
+    let wav = dir.path().join("etude.wav");
+    write_wav(&wav, &item.audio, 22_050);
+    let out = dir.path().join("a.json");
+    let st = analyze(&wav, &out, &["--quiet"]);
+    assert!(st.status.success());
+    let embedded: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    assert!(
+        embedded["beats_s"].as_array().is_some_and(|b| b.len() > 4),
+        "{embedded}"
+    );
+
+    // The embedded beat-net, given as a file, gives the same beats and downbeats.
+    let weights_dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../beat-net/weights");
+    let beat = dir.path().join("beat-net.safetensors");
+    std::fs::copy(weights_dir.join("beat-net.safetensors"), &beat).unwrap();
+    let st = analyze(
+        &wav,
+        &out,
+        &["--quiet", "--beat-weights", beat.to_str().unwrap()],
+    );
+    assert!(
+        st.status.success(),
+        "{}",
+        String::from_utf8_lossy(&st.stderr)
+    );
+    let given: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    assert_eq!(given["beats_s"], embedded["beats_s"]);
+    assert_eq!(given["downbeats_s"], embedded["downbeats_s"]);
+
+    // Another network's weights are refused with one line naming the file.
+    let cnn = dir.path().join("bowing-cnn.safetensors");
+    std::fs::copy(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../bowing-net/weights/bowing-net.safetensors"),
+        &cnn,
+    )
+    .unwrap();
+    refused_naming(
+        &wav,
+        &out,
+        "--beat-weights",
+        cnn.to_str().unwrap(),
+        "bowing-cnn.safetensors",
+    );
 }
