@@ -9,13 +9,18 @@
 //! when that gains at least 0.005 F1 on both sets together (the rule `train_strokes` applies
 //! to a stored decoder). No test item is read.
 //!
-//! `cargo run --release -p violin-train --example validation_violin -- CORPUS VAL_VIOLIN_CORPUS W.safetensors [W2 …] [--write]`
+//! With `--timbre-averaging K:DEPTH_DB:SEED`, the stroke network's change probability is the
+//! mean over its input and K copies heard through random equalisers
+//! (`bowing_net::stroke::timbre`, at most DEPTH_DB deep, curves drawn from SEED): test-time
+//! averaging over the timbres training augmented with.
+//!
+//! `cargo run --release -p violin-train --example validation_violin -- CORPUS VAL_VIOLIN_CORPUS W.safetensors [W2 …] [--write] [--timbre-averaging K:DEPTH_DB:SEED]`
 
 use std::path::{Path, PathBuf};
 
 use bowing_net::data::Recording;
 use bowing_net::metrics::{decoder_f1, tune_decoder};
-use bowing_net::stroke::StrokeDetector;
+use bowing_net::stroke::{timbre, StrokeDetector};
 use bowing_net::{BowChangeDetector, Decoder};
 use violin_train::bowing_data::load_dataset;
 
@@ -28,17 +33,61 @@ fn validation_items(dir: &Path) -> Result<Vec<Recording>, Box<dyn std::error::Er
 
 type Probs = Vec<Vec<f32>>;
 
+/// Test-time timbre averaging: copies, depth (dB), seed.
+type Averaging = Option<(usize, f32, u64)>;
+
+fn parse_averaging(args: &[String]) -> Result<Averaging, Box<dyn std::error::Error>> {
+    let Some(i) = args.iter().position(|a| a == "--timbre-averaging") else {
+        return Ok(None);
+    };
+    let spec = args.get(i + 1).ok_or("--timbre-averaging needs K:DEPTH_DB:SEED")?;
+    let parts: Vec<&str> = spec.split(':').collect();
+    let [k, depth, seed] = parts.as_slice() else {
+        return Err(format!("--timbre-averaging {spec}: expected K:DEPTH_DB:SEED").into());
+    };
+    Ok(Some((k.parse()?, depth.parse()?, seed.parse()?)))
+}
+
+/// The stroke network's change probability of `mel`, averaged over timbres when asked.
+fn stroke_changes(
+    net: &StrokeDetector,
+    mel: ndarray::ArrayView2<f32>,
+    averaging: Averaging,
+) -> Result<Vec<f32>, Box<dyn std::error::Error>> {
+    let mut change = net.frame_outputs(mel)?.change;
+    let Some((copies, depth_db, seed)) = averaging else {
+        return Ok(change);
+    };
+    let input = bowing_net::stroke::stroke_input(mel);
+    let features = input.ncols();
+    let mut rng = net_core::rng::Rng::new(seed);
+    for _ in 0..copies {
+        let curve = timbre::random_curve(&mut rng, features - 2, depth_db);
+        let mut copy = input.clone();
+        let flat = copy.as_slice_mut().ok_or("input not contiguous")?;
+        timbre::equalise(flat, features, &curve);
+        let other = net.net().frame_outputs(&copy)?.change;
+        for (c, o) in change.iter_mut().zip(&other) {
+            *c += o;
+        }
+    }
+    let n = (copies + 1) as f32;
+    change.iter_mut().for_each(|c| *c /= n);
+    Ok(change)
+}
+
 /// (network alone, ensemble) change probabilities of every recording.
 fn probabilities(
     cnn: &BowChangeDetector,
     net: &StrokeDetector,
     recs: &[Recording],
+    averaging: Averaging,
 ) -> Result<(Probs, Probs), Box<dyn std::error::Error>> {
     let mut alone = Vec::with_capacity(recs.len());
     let mut ensemble = Vec::with_capacity(recs.len());
     for r in recs {
         let a = cnn.frame_probabilities(r.mel_db.view())?;
-        let b = net.frame_outputs(r.mel_db.view())?.change;
+        let b = stroke_changes(net, r.mel_db.view(), averaging)?;
         let mut mean = b.clone();
         bowing_net::stroke::average_changes(&mut mean, &a);
         ensemble.push(mean);
@@ -68,11 +117,16 @@ fn f1s(
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let usage = "usage: validation_violin CORPUS VAL_VIOLIN_CORPUS W.safetensors [W2 …] [--write]";
+    let usage = "usage: validation_violin CORPUS VAL_VIOLIN_CORPUS W.safetensors [W2 …] [--write] [--timbre-averaging K:DEPTH_DB:SEED]";
     let write = args.iter().any(|a| a == "--write");
+    let averaging = parse_averaging(&args)?;
     let paths: Vec<PathBuf> = args
         .iter()
-        .filter(|a| !a.starts_with("--"))
+        .enumerate()
+        .filter(|(i, a)| {
+            !a.starts_with("--") && (*i == 0 || args[i - 1] != "--timbre-averaging")
+        })
+        .map(|(_, a)| a)
         .map(PathBuf::from)
         .collect();
     let [corpus, other, weights @ ..] = paths.as_slice() else {
@@ -94,8 +148,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("|---|---|---|---|---|");
     for (k, w) in weights.iter().enumerate() {
         let mut net = StrokeDetector::load(w)?;
-        let p = probabilities(&cnn, &net, &heard)?;
-        let q = probabilities(&cnn, &net, &unheard)?;
+        let p = probabilities(&cnn, &net, &heard, averaging)?;
+        let q = probabilities(&cnn, &net, &unheard, averaging)?;
         let row = |what: String, f: [f64; 3]| {
             println!(
                 "| {} | {what} | {:.3} | {:.3} | {:.3} |",
