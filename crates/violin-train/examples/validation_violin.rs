@@ -40,7 +40,9 @@ fn parse_averaging(args: &[String]) -> Result<Averaging, Box<dyn std::error::Err
     let Some(i) = args.iter().position(|a| a == "--timbre-averaging") else {
         return Ok(None);
     };
-    let spec = args.get(i + 1).ok_or("--timbre-averaging needs K:DEPTH_DB:SEED")?;
+    let spec = args
+        .get(i + 1)
+        .ok_or("--timbre-averaging needs K:DEPTH_DB:SEED")?;
     let parts: Vec<&str> = spec.split(':').collect();
     let [k, depth, seed] = parts.as_slice() else {
         return Err(format!("--timbre-averaging {spec}: expected K:DEPTH_DB:SEED").into());
@@ -123,9 +125,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let paths: Vec<PathBuf> = args
         .iter()
         .enumerate()
-        .filter(|(i, a)| {
-            !a.starts_with("--") && (*i == 0 || args[i - 1] != "--timbre-averaging")
-        })
+        .filter(|(i, a)| !a.starts_with("--") && (*i == 0 || args[i - 1] != "--timbre-averaging"))
         .map(|(_, a)| a)
         .map(PathBuf::from)
         .collect();
