@@ -6,6 +6,7 @@
 //! cargo run --release -p fingering --features train --example tnua -- DIR            # LOPO tuning
 //! cargo run --release -p fingering --features train --example tnua -- DIR --write data/learned_tnua.tsv
 //! cargo run --release -p fingering --features train --example tnua -- DIR --reserved # final evaluation
+//! cargo run --release -p fingering --features train --example tnua -- DIR --fifths 2  # LOPO, places also counted a fifth up/down
 //! ```
 //!
 //! The pieces bach1, bach2, flower and mend1 are reserved for the final evaluation: they
@@ -16,7 +17,9 @@
 
 use std::path::PathBuf;
 
-use fingering::train::{agreement, fit, read_tnua_dir, Agreement, Piece, RESERVED_PIECES};
+use fingering::train::{
+    agreement, fit_with_fifths, read_tnua_dir, Agreement, Piece, RESERVED_PIECES,
+};
 use fingering::{
     Fingering, FingeringPlanner, FingeringTable, GreedyPlanner, LearnedParams, LearnedPlanner,
     OptimalPlanner,
@@ -61,7 +64,7 @@ fn evaluate(planner: &dyn FingeringPlanner, pieces: &[&Piece]) -> (Agreement, Ve
     (total, each)
 }
 
-fn lopo(train: &[&Piece], h: [f64; 6]) -> (Agreement, Vec<Agreement>) {
+fn lopo(train: &[&Piece], h: [f64; 6], fifths: Option<u32>) -> (Agreement, Vec<Agreement>) {
     let mut total = Agreement::default();
     let mut each = Vec::new();
     for (i, held) in train.iter().enumerate() {
@@ -71,7 +74,7 @@ fn lopo(train: &[&Piece], h: [f64; 6]) -> (Agreement, Vec<Agreement>) {
             .filter(|(j, _)| *j != i)
             .map(|(_, p)| *p)
             .collect();
-        let planner = LearnedPlanner::new(&fit(&rest, h));
+        let planner = LearnedPlanner::new(&fit_with_fifths(&rest, h, fifths));
         let (a, _) = evaluate(&planner, &[held]);
         total.add(&a);
         each.push(a);
@@ -91,9 +94,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let dir = args
         .iter()
-        .find(|a| !a.starts_with("--"))
+        .enumerate()
+        .find(|(i, a)| {
+            !a.starts_with("--")
+                && (*i == 0 || !["--write", "--debug", "--fifths"].contains(&args[i - 1].as_str()))
+        })
+        .map(|(_, a)| a)
         .map(PathBuf::from)
-        .ok_or("usage: tnua DIR [--write PARAMS.tsv] [--reserved]")?;
+        .ok_or("usage: tnua DIR [--write PARAMS.tsv] [--reserved] [--fifths W] [--debug PIECE]")?;
     let write = args
         .iter()
         .position(|a| a == "--write")
@@ -105,6 +113,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .position(|a| a == "--debug")
         .and_then(|i| args.get(i + 1))
         .cloned();
+    let fifths: Option<u32> = args
+        .iter()
+        .position(|a| a == "--fifths")
+        .and_then(|i| args.get(i + 1))
+        .map(|w| w.parse())
+        .transpose()?;
     let pieces = read_tnua_dir(&dir)?;
     let train: Vec<&Piece> = pieces
         .iter()
@@ -146,7 +160,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let Some(piece) = train.iter().find(|p| p.name == name) else {
             return Err("no such training piece".into());
         };
-        let plan = LearnedPlanner::new(&fit(&rest, h)).plan(&piece.midi)?;
+        let plan = LearnedPlanner::new(&fit_with_fifths(&rest, h, fifths)).plan(&piece.midi)?;
         for (i, (f, labels)) in plan.iter().zip(&piece.labels).enumerate() {
             let ok = labels.iter().flatten().any(|l| l.same_string_position(f));
             let l: Vec<String> = labels
@@ -186,7 +200,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     let mut best = (f64::NEG_INFINITY, grid[0]);
     for h in &grid {
-        let (a, _) = lopo(&train, *h);
+        let (a, _) = lopo(&train, *h, fifths);
         let (s, sp, any) = a.shares();
         eprintln!("{h:?}: {s:.3} {sp:.3} {any:.3}");
         if sp > best.0 {
@@ -200,7 +214,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     );
     println!("| planner | notes | string | string+position | ≥ 1 violinist |");
     println!("|---|---|---|---|---|");
-    let (all, each) = lopo(&train, h);
+    let (all, each) = lopo(&train, h, fifths);
     println!("{}", row("learned (LOPO)", &all));
     for (name, p) in baselines {
         println!("{}", row(name, &evaluate(p, &train).0));
@@ -210,7 +224,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         println!("{}", row(&p.name, a));
     }
     if let Some(path) = write {
-        let params: LearnedParams = fit(&train, h);
+        let params: LearnedParams = fit_with_fifths(&train, h, fifths);
         std::fs::write(&path, params.to_tsv())?;
         println!(
             "\nparameters fitted on all {} training pieces written to {}",

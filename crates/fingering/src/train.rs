@@ -189,10 +189,20 @@ fn align(name: String, by_violinist: BTreeMap<u32, Vec<Row>>) -> Piece {
 /// Counts the pieces' fingerings into parameters with the given smoothing and weights
 /// `[alpha, beta, lambda, mu, gamma_string, gamma_position]` (see [`LearnedParams`]).
 pub fn fit(pieces: &[&Piece], h: [f64; 6]) -> LearnedParams {
+    fit_with_fifths(pieces, h, None)
+}
+
+/// [`fit`], with each violinist's places also counted a fifth up on the next string and a
+/// fifth down on the previous one (same position, finger and placement: the hand does the
+/// same thing one string over) where that string exists, as emission counts only. With
+/// `Some(w)` the real counts weigh `w` times a shifted one (alpha and beta are scaled by
+/// `w` too, so the real counts keep their smoothing); `None` counts the real places only.
+pub fn fit_with_fifths(pieces: &[&Piece], h: [f64; 6], fifths: Option<u32>) -> LearnedParams {
     let [alpha, beta, lambda, mu, gamma_string, gamma_position] = h;
+    let w = fifths.unwrap_or(1).max(1);
     let mut p = LearnedParams {
-        alpha,
-        beta,
+        alpha: alpha * f64::from(w),
+        beta: beta * f64::from(w),
         lambda,
         mu,
         gamma_string,
@@ -213,15 +223,19 @@ pub fn fit(pieces: &[&Piece], h: [f64; 6]) -> LearnedParams {
             for (i, &(midi, label)) in seq.iter().enumerate() {
                 let place = label.to_fingering(midi);
                 if let Some(f) = place {
-                    *p.emission
-                        .entry((midi, context(&pitches, i), f))
-                        .or_default() += 1;
+                    let ctx = context(&pitches, i);
+                    *p.emission.entry((midi, ctx, f)).or_default() += w;
+                    if fifths.is_some() {
+                        for (m, g) in fifth_neighbours(midi, &f) {
+                            *p.emission.entry((m, ctx, g)).or_default() += 1;
+                        }
+                    }
                     if let Some((pm, pf)) = previous {
                         let iv = interval_class(pm, midi);
                         let (ds, dp) = steps(&pf, &f);
-                        *p.transition.entry((iv, ds, dp)).or_default() += 1;
+                        *p.transition.entry((iv, ds, dp)).or_default() += w;
                         if ds == 0 && dp == 0 && !pf.is_open() && !f.is_open() {
-                            *p.finger.entry((iv, pf.finger, f.finger)).or_default() += 1;
+                            *p.finger.entry((iv, pf.finger, f.finger)).or_default() += w;
                         }
                     }
                 }
@@ -230,6 +244,24 @@ pub fn fit(pieces: &[&Piece], h: [f64; 6]) -> LearnedParams {
         }
     }
     p
+}
+
+/// The place `f` (playing `midi`) moved one string up and one string down, with the pitch
+/// it then plays, where that string exists and the pitch is one the learned model plays.
+fn fifth_neighbours(midi: u8, f: &Fingering) -> Vec<(u8, Fingering)> {
+    let mut out = Vec::new();
+    for step in [-1i8, 1] {
+        let Some(string) = ViolinString::from_number((f.string.number() as i8 + step) as u8) else {
+            continue;
+        };
+        let m = i16::from(midi) + i16::from(string.open_midi()) - i16::from(f.string.open_midi());
+        let Ok(m) = u8::try_from(m) else { continue };
+        let g = Fingering { string, ..*f };
+        if g.midi() == m && crate::learned::learned_places(m).contains(&g) {
+            out.push((m, g));
+        }
+    }
+    out
 }
 
 /// Agreement of planned fingerings with the violinists, summed over notes.
@@ -281,4 +313,62 @@ pub fn agreement(piece: &Piece, plan: &[Fingering]) -> Agreement {
         a.any += usize::from(sp > 0);
     }
     a
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_place_moves_a_fifth_with_its_string() {
+        // D5 (74) with the 1st finger on the A string in 3rd position.
+        let f = Fingering::new(ViolinString::A, 3, 1);
+        assert_eq!(f.midi(), 74);
+        let moved = fifth_neighbours(74, &f);
+        assert_eq!(
+            moved,
+            vec![
+                (67, Fingering::new(ViolinString::D, 3, 1)),
+                (81, Fingering::new(ViolinString::E, 3, 1)),
+            ]
+        );
+        // The G string has no string below it, and the open E none above.
+        let g = Fingering::open(ViolinString::G, 1);
+        assert_eq!(
+            fifth_neighbours(55, &g),
+            vec![(62, Fingering::open(ViolinString::D, 1))]
+        );
+        let e = Fingering::open(ViolinString::E, 1);
+        assert_eq!(
+            fifth_neighbours(76, &e),
+            vec![(69, Fingering::open(ViolinString::A, 1))]
+        );
+    }
+
+    #[test]
+    fn shifted_counts_join_the_emissions_only() {
+        let label = Label {
+            string: 3,
+            position: 3,
+            finger: 1,
+        };
+        let piece = Piece {
+            name: "p".into(),
+            midi: vec![74, 74],
+            labels: vec![vec![Some(label)]; 2],
+            sequences: vec![vec![(74, label), (74, label)]],
+        };
+        let h = [1.0, 1.0, 1.0, 1.0, 0.0, 0.0];
+        let plain = fit(&[&piece], h);
+        let shifted = fit_with_fifths(&[&piece], h, Some(3));
+        assert_eq!(plain.emission.len(), 2); // two contexts of (74, A3-1)
+        assert_eq!(shifted.emission.len(), 6); // and of (67, D3-1), (81, E3-1)
+        assert!(shifted
+            .emission
+            .iter()
+            .all(|((m, _, _), n)| *n == if *m == 74 { 3 } else { 1 }));
+        assert_eq!(shifted.transition.values().sum::<u32>(), 3);
+        assert_eq!(plain.transition.values().sum::<u32>(), 1);
+        assert_eq!((shifted.alpha, shifted.beta), (3.0, 3.0));
+    }
 }
