@@ -1,5 +1,6 @@
 //! The trained models behind the pipeline: the bowing model (stroke network or CNN), the
-//! beat/downbeat activation network, the arousal CRNN and the Method 1 GRU. The embedded defaults are loaded once per process and shared.
+//! beat/downbeat activation network, the arousal CRNN and the Method 1 GRU. The embedded
+//! defaults are loaded once per process and shared.
 
 use std::path::Path;
 use std::sync::{Arc, OnceLock};

@@ -143,8 +143,7 @@ pub fn write_motion(
 }
 
 /// The `--bowing-weights` / `--emotion-weights` / `--beat-weights` flags of every command
-/// that analyses audio
-/// (`None`: the embedded defaults).
+/// that analyses audio (`None`: the embedded defaults).
 #[derive(Debug, Clone, Default, Args)]
 pub struct AnalysisWeights {
     /// Bowing weights from `train bowing` or the `train_strokes` example: the stroke
