@@ -10,11 +10,13 @@
 //! the facade's and is chosen with `violin-skeleton evaluate --split val`.
 //!
 //! `cargo run --release -p violin-train --example tune_beats -- corpus-hook [WEIGHTS]
-//! [--music etude|repertoire] [--prior-only]`
+//! [--music etude|repertoire] [--prior-only] [--band-shifts LIST] [--score-only]`
 //!
 //! `--music repertoire` keeps the validation items of validation works (the stand-in for
 //! held-out repertoire: the same figures within a few points), `--music etude` the études;
-//! `--prior-only` skips the grid.
+//! `--prior-only` skips the grid. `--band-shifts -2,0,2` averages the activations of the mel
+//! moved by those bands (test-time averaging over the training's band-shift augmentation)
+//! and `--score-only` prints the figures of the shipped decoder settings and stops.
 
 use std::path::PathBuf;
 
@@ -49,10 +51,23 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         return Err(format!("--music {m}: give etude or repertoire").into());
     }
     let prior_only = all.iter().any(|a| a == "--prior-only");
+    let score_only = all.iter().any(|a| a == "--score-only");
+    let shifts: Vec<i64> = match all.iter().position(|a| a == "--band-shifts") {
+        Some(i) => all
+            .get(i + 1)
+            .ok_or("--band-shifts needs a list such as -2,0,2")?
+            .split(',')
+            .map(str::parse)
+            .collect::<Result<_, _>>()?,
+        None => vec![0],
+    };
     let mut args = all
         .iter()
         .enumerate()
-        .filter(|(i, a)| !a.starts_with("--") && (*i == 0 || all[i - 1] != "--music"))
+        .filter(|(i, a)| {
+            !a.starts_with("--")
+                && (*i == 0 || !["--music", "--band-shifts"].contains(&all[i - 1].as_str()))
+        })
         .map(|(_, a)| a.clone());
     let dir: PathBuf = args
         .next()
@@ -74,7 +89,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let mel = cached_mel30(&d, &corpus::layout::item_audio(&d))?;
         let labels: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(d.join("labels.json"))?)?;
-        let act = net.activations(mel.view())?;
+        let act = shifted_activations(&net, &mel, &shifts)?;
         items.push(Item {
             frames: act.beat.len() as f64,
             act,
@@ -85,6 +100,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         });
     }
     println!("{} validation items", items.len());
+    if score_only {
+        let s = score(&items, &BarPointerConfig::default())?;
+        println!(
+            "band shifts {shifts:?}: beat F {:.3}  downbeat F {:.3}  metre {:.3}  tempo {:.3}  double {:.3}  half {:.3}",
+            s[0], s[1], s[2], s[3], s[4], s[5]
+        );
+        return Ok(());
+    }
     if prior_only {
         return tune_prior(&items);
     }
@@ -120,6 +143,39 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     tune_prior(&items)
+}
+
+/// The activations of `mel`, averaged over copies whose bands are moved by `shifts`.
+fn shifted_activations(
+    net: &BeatActivation,
+    mel: &ndarray::Array2<f32>,
+    shifts: &[i64],
+) -> Result<beat_net::Activations, Box<dyn std::error::Error>> {
+    let bands = mel.ncols();
+    let mut sum: Option<beat_net::Activations> = None;
+    for &k in shifts {
+        let mut moved = mel.as_standard_layout().into_owned();
+        let flat = moved.as_slice_mut().ok_or("mel not contiguous")?;
+        net_core::frames::shift_bands(flat, bands, bands, k);
+        let a = net.activations(moved.view())?;
+        match &mut sum {
+            None => sum = Some(a),
+            Some(s) => {
+                s.beat.iter_mut().zip(&a.beat).for_each(|(x, y)| *x += y);
+                s.downbeat
+                    .iter_mut()
+                    .zip(&a.downbeat)
+                    .for_each(|(x, y)| *x += y);
+            }
+        }
+    }
+    let mut s = sum.ok_or("--band-shifts is empty")?;
+    let n = shifts.len() as f32;
+    s.beat
+        .iter_mut()
+        .chain(s.downbeat.iter_mut())
+        .for_each(|x| *x /= n);
+    Ok(s)
 }
 
 /// Mean beat F, downbeat F, metre, tempo (±8 %), double-tempo and half-tempo shares of
