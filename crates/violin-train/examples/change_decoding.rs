@@ -54,10 +54,12 @@ fn mixed(m: &Members, w: f32) -> Vec<Vec<f32>> {
 /// The `q`-quantile of the heights of the local maxima of `p` at or above 0.2 (1 when
 /// there are none, so the threshold is left alone).
 fn peak_level(p: &[f32], q: f64) -> f32 {
-    let n = p.len();
-    let is_peak =
-        |i: usize| p[i] >= 0.2 && (i == 0 || p[i] >= p[i - 1]) && (i + 1 == n || p[i] > p[i + 1]);
-    let mut peaks: Vec<f32> = (0..n).filter(|&i| is_peak(i)).map(|i| p[i]).collect();
+    // The decoder's own local maxima (spacing 1: none suppressed).
+    let all_peaks = Decoder {
+        threshold: 0.2,
+        min_spacing_frames: 1,
+    };
+    let mut peaks: Vec<f32> = all_peaks.pick(p).into_iter().map(|i| p[i]).collect();
     if peaks.is_empty() {
         return 1.0;
     }

@@ -151,6 +151,9 @@ fn shifted_activations(
     mel: &ndarray::Array2<f32>,
     shifts: &[i64],
 ) -> Result<beat_net::Activations, Box<dyn std::error::Error>> {
+    if shifts == [0] {
+        return Ok(net.activations(mel.view())?);
+    }
     let bands = mel.ncols();
     let mut sum: Option<beat_net::Activations> = None;
     for &k in shifts {
