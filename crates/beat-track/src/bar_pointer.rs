@@ -64,9 +64,10 @@ pub fn decode(beat: &[f32], downbeat: &[f32], cfg: &BarPointerConfig) -> Result<
 /// [`decode`] with other evidence of where bars start: `evidence[t]` (one value per
 /// activation frame, or empty for none) is a log-bonus for a downbeat at frame `t`, e.g.
 /// where a new bow starts. The bar length is chosen without it (a bonus per downbeat would
-/// favour the bar lengths with the most downbeats); the chosen bar length is then decoded
-/// again with it, which moves the bars' phase (and may move beats). Evidence of another
-/// length, or not finite, is refused.
+/// favour the bar lengths with the most downbeats, so every bar length is scored without it,
+/// see [`BarPointerConfig::selection_upsample`]); the chosen bar length is then decoded with
+/// it, which moves the bars' phase (and may move beats). Evidence of another length, or not
+/// finite, is refused.
 ///
 /// ```
 /// use beat_track::bar_pointer::{decode_with_downbeat_evidence, BarPointerConfig};
@@ -106,19 +107,13 @@ pub fn decode_with_downbeat_evidence(
             "downbeat evidence that is not finite".into(),
         ));
     }
-    let chosen = decode_checked(beat, downbeat, &[], cfg)?;
-    // No evidence anywhere (no bow change heard): the second decoding would repeat the first.
-    if evidence.iter().all(|&v| v == 0.0) || chosen.beats_s.is_empty() {
-        return Ok(chosen);
-    }
-    let one = BarPointerConfig {
-        beats_per_bar: vec![chosen.beats_per_bar],
-        bar_length_prior_per_frame: Vec::new(),
-        ..cfg.clone()
+    // No evidence anywhere (no bow change heard): decode as without it.
+    let evidence = if evidence.iter().all(|&v| v == 0.0) {
+        &[][..]
+    } else {
+        evidence
     };
-    let mut phased = decode_checked(beat, downbeat, evidence, &one)?;
-    phased.log_probability = chosen.log_probability;
-    Ok(phased)
+    decode_checked(beat, downbeat, evidence, cfg)
 }
 
 /// [`decode_with_downbeat_evidence`] over every bar length of `cfg` at once, `evidence`
@@ -158,24 +153,86 @@ fn decode_checked(
     if beat.len() < 2 {
         return Ok(empty);
     }
-    if cfg.upsample > 1 {
-        let dec = BarPointerConfig {
-            fps: cfg.fps * cfg.upsample as f64,
-            upsample: 1,
+    // The bar length: every one of `cfg.beats_per_bar` decoded at the selection rate,
+    // without the evidence (a bonus per downbeat would favour the bar lengths with the
+    // most downbeats).
+    let mut log_probability = Vec::new();
+    let mut paths = Vec::new();
+    let mut best = 0;
+    if cfg.beats_per_bar.len() > 1 {
+        let rate = cfg.selection_rate();
+        let at = BarPointerConfig {
+            upsample: rate,
             ..cfg.clone()
         };
-        let (b, d, e) = (
-            interpolate(beat, cfg.upsample),
-            interpolate(downbeat, cfg.upsample),
-            interpolate(evidence, cfg.upsample),
+        let obs = observations(
+            &interpolate(beat, rate),
+            &interpolate(downbeat, rate),
+            &[],
+            cfg,
         );
-        return Ok(decode_at_rate(&b, &d, &e, &dec, empty));
+        let intervals = at.intervals();
+        let region = at.region(&intervals);
+        // Decoded at the final rate without evidence, the chosen path is already final.
+        let keep_paths = rate == cfg.upsample && evidence.is_empty();
+        for &n in &cfg.beats_per_bar {
+            let (score, path) = BarStateSpace::new(n, &intervals, cfg.transition_lambda, &region)
+                .viterbi(&obs, keep_paths);
+            log_probability.push(score);
+            paths.push(path);
+        }
+        let frames = obs.len() as f64;
+        let with_prior = |k: usize| {
+            log_probability[k]
+                + cfg
+                    .bar_length_prior_per_frame
+                    .get(k)
+                    .copied()
+                    .unwrap_or(0.0)
+                    * frames
+        };
+        best = (0..log_probability.len())
+            .max_by(|&a, &b| with_prior(a).total_cmp(&with_prior(b)))
+            .unwrap_or(0);
     }
-    Ok(decode_at_rate(beat, downbeat, evidence, cfg, empty))
+    // The chosen bar length at the decoding rate, with the evidence.
+    let rate = cfg.upsample;
+    let (beat, downbeat) = (interpolate(beat, rate), interpolate(downbeat, rate));
+    let path = match paths.get_mut(best).filter(|p| !p.is_empty()) {
+        Some(path) => std::mem::take(path),
+        None => {
+            let obs = observations(&beat, &downbeat, &interpolate(evidence, rate), cfg);
+            let intervals = cfg.intervals();
+            let (score, path) = BarStateSpace::new(
+                cfg.beats_per_bar[best],
+                &intervals,
+                cfg.transition_lambda,
+                &cfg.region(&intervals),
+            )
+            .viterbi(&obs, true);
+            if log_probability.is_empty() {
+                log_probability.push(score);
+            }
+            path
+        }
+    };
+    let at = BarPointerConfig {
+        fps: cfg.fps * rate as f64,
+        upsample: 1,
+        ..cfg.clone()
+    };
+    let mut out = empty;
+    out.beats_per_bar = cfg.beats_per_bar[best];
+    out.log_probability = log_probability;
+    let any: Vec<f32> = beat.iter().zip(&downbeat).map(|(b, d)| b + d).collect();
+    Ok(finish(&path, &any, &at, out))
 }
 
 /// `v` linearly interpolated to `k` values per value (the last one held).
 fn interpolate(v: &[f32], k: usize) -> Vec<f32> {
+    if k <= 1 {
+        return v.to_vec();
+    }
     let mut out = Vec::with_capacity(v.len() * k);
     for (i, &a) in v.iter().enumerate() {
         let b = v.get(i + 1).copied().unwrap_or(a);
@@ -184,18 +241,17 @@ fn interpolate(v: &[f32], k: usize) -> Vec<f32> {
     out
 }
 
-/// [`decode`] on checked activations at the decoding rate `cfg.fps` (`cfg.upsample` 1).
-fn decode_at_rate(
+/// The per-frame log-likelihoods of checked activations (`evidence` empty or one value
+/// per frame).
+fn observations(
     beat: &[f32],
     downbeat: &[f32],
     evidence: &[f32],
     cfg: &BarPointerConfig,
-    mut empty: BarPointerBeats,
-) -> BarPointerBeats {
+) -> Vec<FrameObservation> {
     let none_scale = 1.0 / (cfg.observation_lambda as f32 - 1.0).max(1.0);
     let floor = cfg.observation_floor.max(EPS);
-    let obs: Vec<FrameObservation> = beat
-        .iter()
+    beat.iter()
         .zip(downbeat)
         .enumerate()
         .map(|(t, (&b, &d))| FrameObservation {
@@ -203,39 +259,7 @@ fn decode_at_rate(
             beat: b.max(floor).ln(),
             downbeat: d.max(floor).ln() + evidence.get(t).copied().unwrap_or(0.0),
         })
-        .collect();
-    let intervals = cfg.intervals();
-    let decoded: Vec<(f64, Vec<PathFrame>)> = cfg
-        .beats_per_bar
-        .iter()
-        .map(|&n| {
-            BarStateSpace::new(
-                n,
-                &intervals,
-                cfg.transition_lambda,
-                &cfg.region(&intervals),
-            )
-            .viterbi(&obs)
-        })
-        .collect();
-    let log_probability: Vec<f64> = decoded.iter().map(|d| d.0).collect();
-    let frames = beat.len() as f64;
-    let with_prior = |k: usize| {
-        log_probability[k]
-            + cfg
-                .bar_length_prior_per_frame
-                .get(k)
-                .copied()
-                .unwrap_or(0.0)
-                * frames
-    };
-    let best = (0..decoded.len())
-        .max_by(|&a, &b| with_prior(a).total_cmp(&with_prior(b)))
-        .unwrap_or(0);
-    empty.beats_per_bar = cfg.beats_per_bar[best];
-    empty.log_probability = log_probability;
-    let any: Vec<f32> = beat.iter().zip(downbeat).map(|(b, d)| b + d).collect();
-    finish(&decoded[best].1, &any, cfg, empty)
+        .collect()
 }
 
 /// Beats of a decoded path, gated, refined to the activation peak and measured.

@@ -21,6 +21,16 @@ pub struct BarPointerConfig {
     /// move in 10 % steps and every step pays the tempo-change penalty; a finer grid lets
     /// fast beats be followed.
     pub upsample: usize,
+    /// The bar length is chosen by decoding every one of `beats_per_bar` (log-probabilities
+    /// only) with the activations interpolated to this many times `fps`; 0 (the default)
+    /// = `upsample`. Only the chosen one is then decoded, at `fps · upsample`, with the
+    /// downbeat evidence if there is any. Choosing at the activations' own rate (1) takes
+    /// about a third less time, but the bar-length prior, tuned at the decoding rate, then
+    /// outweighs the smaller gaps between the bar lengths' log-probabilities: on corpus-hook
+    /// metre rose on validation (0.654 → 0.673) and fell on the test sets (held-out both
+    /// 0.596 → 0.462, in-distribution 0.885 → 0.846), and across a long silent gap a 4/4
+    /// is read as 2/4 at half the tempo. Re-tuning the prior for it finds the same prior.
+    pub selection_upsample: usize,
     /// At most this many tempi (beat intervals log-spaced over the range, as madmom's
     /// `num_tempi`); 0 = every whole number of (upsampled) frames in the range.
     pub max_tempi: usize,
@@ -43,7 +53,7 @@ pub struct BarPointerConfig {
     pub gate_window_s: f64,
     /// Below this confidence no beats are returned.
     pub min_confidence: f32,
-    /// Log-probability per decoded frame (at `fps · upsample`) added to each bar length's
+    /// Log-probability per decoded frame (at `fps · selection_upsample`) added to each bar length's
     /// path (same order as `beats_per_bar`; empty = none) before the most likely bar length
     /// is taken: a prior over metres that grows with the recording, as the paths' own
     /// log-probabilities do.
@@ -61,6 +71,7 @@ impl Default for BarPointerConfig {
             // against 30 fps with every interval, no region limit and λ 60/6, beat F .775 →
             // .815, tempo ±8 % .654 → .740, double tempo .125 → .038.
             upsample: 2,
+            selection_upsample: 0,
             max_tempi: 40,
             beats_per_bar: vec![1, 2, 3, 4],
             // Chosen with the four above; madmom uses 100 and 16 at 100 fps.
@@ -117,6 +128,16 @@ impl BarPointerConfig {
             .collect()
     }
 
+    /// The interpolation factor at which the bar length is chosen (`selection_upsample`,
+    /// or `upsample` where that is 0).
+    pub fn selection_rate(&self) -> usize {
+        if self.selection_upsample == 0 {
+            self.upsample
+        } else {
+            self.selection_upsample
+        }
+    }
+
     pub(crate) fn check(&self) -> Result<()> {
         let bad = |m: &str| Err(BeatError::InvalidConfig(format!("bar pointer: {m}")));
         if !(self.fps.is_finite() && self.fps > 0.0) {
@@ -127,6 +148,9 @@ impl BarPointerConfig {
         }
         if self.upsample == 0 || self.upsample > 8 {
             return bad("upsample must be 1 to 8");
+        }
+        if self.selection_upsample > 8 {
+            return bad("selection_upsample must be 0 to 8");
         }
         if self.intervals().len() > usize::from(u16::MAX) {
             return bad("the tempo range has too many beat intervals");

@@ -40,7 +40,8 @@ pub(crate) struct BarStateSpace {
     /// Frames of each beat that observe a beat, per tempo.
     region: Vec<usize>,
     /// For every tempo q, the (previous tempo, log-probability) pairs that may precede it.
-    incoming: Vec<Vec<(usize, f32)>>,
+    /// (The log-probability is rounded to `f32`, held as `f64`.)
+    incoming: Vec<Vec<(usize, f64)>>,
     /// Whether block k is a bar's first beat.
     downbeat_block: Vec<bool>,
     states: usize,
@@ -76,7 +77,7 @@ impl BarStateSpace {
             for (qt, v) in raw.iter().enumerate() {
                 let lp = v - norm;
                 if lp >= MIN_LOG_TRANSITION {
-                    incoming[qt].push((qf, lp as f32));
+                    incoming[qt].push((qf, f64::from(lp as f32)));
                 }
             }
         }
@@ -91,13 +92,31 @@ impl BarStateSpace {
         }
     }
 
-    /// The most likely path and its log-probability.
+    /// The most likely path and its log-probability; with `keep_path` false only the
+    /// log-probability (the path comes back empty, and no back-pointers are stored).
     ///
     /// Each (tempo, beat) block of states is a ring buffer with an additive offset: moving
     /// every pointer one position on is moving the ring's head, and the "no beat"
     /// observation that most positions see is added to the offset, so a frame costs the
     /// beat-boundary transitions and the few beat positions, not a pass over all states.
-    pub(crate) fn viterbi(&self, obs: &[FrameObservation]) -> (f64, Vec<PathFrame>) {
+    pub(crate) fn viterbi(
+        &self,
+        obs: &[FrameObservation],
+        keep_path: bool,
+    ) -> (f64, Vec<PathFrame>) {
+        if keep_path {
+            self.viterbi_with::<true>(obs)
+        } else {
+            self.viterbi_with::<false>(obs)
+        }
+    }
+
+    /// [`Self::viterbi`], compiled apart for `KEEP_PATH` so that the score-only decoding
+    /// does not track its best predecessors.
+    fn viterbi_with<const KEEP_PATH: bool>(
+        &self,
+        obs: &[FrameObservation],
+    ) -> (f64, Vec<PathFrame>) {
         let (nq, nb) = (self.intervals.len(), self.beats);
         if obs.is_empty() || self.states == 0 {
             return (f64::NEG_INFINITY, Vec::new());
@@ -125,7 +144,7 @@ impl BarStateSpace {
         // The value of every block's last position (the one that moves to the next beat).
         let mut lasts = vec![0.0f64; blocks];
         // The predecessor tempo of every beat start, per frame.
-        let mut back = vec![0u16; obs.len() * blocks];
+        let mut back = vec![0u16; if KEEP_PATH { obs.len() * blocks } else { 0 }];
         // Block k = q·nb + b; the loops run over q and b so that no index is divided.
         let block_len: Vec<usize> = (0..blocks).map(len).collect();
         let region: Vec<usize> = (0..blocks).map(|k| self.region[k / nb]).collect();
@@ -138,20 +157,26 @@ impl BarStateSpace {
                 };
                 lasts[k] = raw[self.offsets[k] + slot] + base[k];
             }
-            let back_t = &mut back[t * blocks..(t + 1) * blocks];
+            let mut back_t = back.get_mut(t * blocks..(t + 1) * blocks);
             for (q, incoming) in self.incoming.iter().enumerate() {
                 for b in 0..nb {
                     let prev_beat = if b == 0 { nb - 1 } else { b - 1 };
                     let mut best = f64::NEG_INFINITY;
                     let mut arg = 0usize;
                     for &(qf, lp) in incoming {
-                        let v = lasts[qf * nb + prev_beat] + f64::from(lp);
+                        let v = lasts[qf * nb + prev_beat] + lp;
                         // Branch-free (the comparison is unpredictable).
-                        let better = v > best;
-                        best = if better { v } else { best };
-                        arg = if better { qf } else { arg };
+                        if KEEP_PATH {
+                            let better = v > best;
+                            best = if better { v } else { best };
+                            arg = if better { qf } else { arg };
+                        } else {
+                            best = best.max(v);
+                        }
                     }
-                    back_t[q * nb + b] = arg as u16;
+                    if let Some(back_t) = back_t.as_deref_mut() {
+                        back_t[q * nb + b] = arg as u16;
+                    }
                     firsts[q * nb + b] = best;
                 }
             }
@@ -185,6 +210,9 @@ impl BarStateSpace {
             }
         }
         let (mut state, score) = best;
+        if !KEEP_PATH {
+            return (score, Vec::new());
+        }
         let mut path = vec![
             PathFrame {
                 beat_of_bar: 0,

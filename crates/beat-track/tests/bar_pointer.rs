@@ -255,6 +255,10 @@ fn the_decoding_grid_is_checked() {
             max_beat_region_s: f64::NAN,
             ..Default::default()
         },
+        BarPointerConfig {
+            selection_upsample: 9,
+            ..Default::default()
+        },
     ] {
         assert!(decode(&[0.1; 10], &[0.1; 10], &bad).is_err(), "{bad:?}");
     }
@@ -309,4 +313,36 @@ fn downbeat_evidence_moves_the_phase_not_the_bar_length() {
     // Also when the activation is silent and nothing would be decoded.
     let silent = vec![0.0f32; 1200];
     assert!(decode_with_downbeat_evidence(&silent, &silent, &bows, &cfg).is_err());
+}
+
+#[test]
+fn the_bar_length_may_be_chosen_at_another_rate() {
+    // 60 s of 3/4 at 100 bpm with a ritardando to 80 in the last 20 s.
+    let mut beats = steady(100.0, 0.5, 40.0);
+    let mut t = *beats.last().unwrap();
+    while t < 59.0 {
+        t += 60.0 / (100.0 - (t - 40.0));
+        beats.push(t);
+    }
+    let (b, d) = activations(&beats, 3, 1800);
+    let shipped = BarPointerConfig::default();
+    let same_rate = BarPointerConfig {
+        selection_upsample: shipped.upsample,
+        ..Default::default()
+    };
+    let coarse = BarPointerConfig {
+        selection_upsample: 1,
+        ..Default::default()
+    };
+    let reference = decode(&b, &d, &shipped).unwrap();
+    assert_eq!(reference.beats_per_bar, 3);
+    // 0 means the decoding rate: the same decoding, bit for bit.
+    assert_eq!(decode(&b, &d, &same_rate).unwrap(), reference);
+    // Chosen at 30 fps: the same bar length, and the beats of the 60 fps decoding;
+    // only the log-probabilities are those of the coarser selection.
+    let out = decode(&b, &d, &coarse).unwrap();
+    assert_eq!(out.beats_per_bar, 3);
+    assert_eq!(out.beats_s, reference.beats_s);
+    assert_eq!(out.downbeats_s, reference.downbeats_s);
+    assert_ne!(out.log_probability, reference.log_probability);
 }

@@ -205,17 +205,19 @@ fn score(items: &[Item], cfg: &BarPointerConfig) -> Result<[f64; 6], Box<dyn std
 }
 
 /// (beat F, downbeat F, metre accuracy) of the decodings `per_bar[item][bar length]` with
-/// `prior` per bar length.
-fn with_prior(items: &[Item], per_bar: &[Vec<BarPointerBeats>], prior: &[f64]) -> (f64, f64, f64) {
+/// `prior` per bar length, the bar length chosen as the decoder chooses it: by the
+/// log-probabilities of the selection pass, `scores[item][bar length]`.
+fn with_prior(
+    items: &[Item],
+    per_bar: &[Vec<BarPointerBeats>],
+    scores: &[Vec<f64>],
+    prior: &[f64],
+) -> (f64, f64, f64) {
     let (mut bf, mut df, mut meter) = (0.0, 0.0, 0usize);
-    for (it, decoded) in items.iter().zip(per_bar) {
+    let rate = BarPointerConfig::default().selection_rate() as f64;
+    for ((it, decoded), scores) in items.iter().zip(per_bar).zip(scores) {
         let score = |k: usize| {
-            decoded[k]
-                .log_probability
-                .first()
-                .copied()
-                .unwrap_or(f64::NEG_INFINITY)
-                + prior[k] * it.frames * BarPointerConfig::default().upsample as f64
+            scores.get(k).copied().unwrap_or(f64::NEG_INFINITY) + prior[k] * it.frames * rate
         };
         let best = (0..decoded.len())
             .max_by(|&a, &b| score(a).total_cmp(&score(b)))
@@ -237,7 +239,9 @@ fn tune_prior(items: &[Item]) -> Result<(), Box<dyn std::error::Error>> {
         ..BarPointerConfig::default()
     };
     let mut per_bar = Vec::with_capacity(items.len());
+    let mut scores = Vec::with_capacity(items.len());
     for it in items {
+        scores.push(decode(&it.act.beat, &it.act.downbeat, &base)?.log_probability);
         let decoded = base
             .beats_per_bar
             .iter()
@@ -252,7 +256,7 @@ fn tune_prior(items: &[Item]) -> Result<(), Box<dyn std::error::Error>> {
         per_bar.push(decoded);
     }
     let mut prior = vec![0.0; base.beats_per_bar.len()];
-    let start = with_prior(items, &per_bar, &prior);
+    let start = with_prior(items, &per_bar, &scores, &prior);
     println!("\nbar lengths {:?}", base.beats_per_bar);
     println!(
         "no prior: beat F {:.3}  downbeat F {:.3}  metre {:.3}",
@@ -265,7 +269,7 @@ fn tune_prior(items: &[Item]) -> Result<(), Box<dyn std::error::Error>> {
             for step in -12..=12 {
                 let mut p = prior.clone();
                 p[k] = f64::from(step) * 0.0025;
-                let s = with_prior(items, &per_bar, &p);
+                let s = with_prior(items, &per_bar, &scores, &p);
                 if objective(s) > best + 1e-9 {
                     best = objective(s);
                     prior = p;
@@ -273,7 +277,7 @@ fn tune_prior(items: &[Item]) -> Result<(), Box<dyn std::error::Error>> {
             }
         }
     }
-    let s = with_prior(items, &per_bar, &prior);
+    let s = with_prior(items, &per_bar, &scores, &prior);
     println!(
         "prior {prior:?}: beat F {:.3}  downbeat F {:.3}  metre {:.3}",
         s.0, s.1, s.2
