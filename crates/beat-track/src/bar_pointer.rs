@@ -2,7 +2,7 @@
 //! bar-pointer model, as madmom's `DBNDownBeatTrackingProcessor` (Böck, Krebs & Widmer
 //! 2016): one hidden Markov model per bar length (by default 1, 2, 3 and 4 beats; compound
 //! metres count dotted beats, so 6/8 is 2, 9/8 is 3, 12/8 is 4 and 3/8 is 1), each decoded
-//! with Viterbi ([`crate::bar_state`]); the most likely bar length wins. The tempo may
+//! with Viterbi (the crate's `bar_state` module); the most likely bar length wins. The tempo may
 //! change at every beat (exponential penalty, `transition_lambda`), so rubato and ritardandi
 //! are followed while beats, downbeats and the metre stay consistent with each other.
 //!

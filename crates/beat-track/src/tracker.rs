@@ -77,7 +77,7 @@ impl BeatTracker {
 
     /// [`BeatTracker::track`] with bow changes as well as notes: a level whose beats fall on
     /// bow changes scores higher ([`crate::LevelWeights::bow_coverage`]), and a beat with a
-    /// bow change is more likely a bar line ([`MeterConfig::bow_weight`]).
+    /// bow change is more likely a bar line ([`crate::MeterConfig::bow_weight`]).
     pub fn track_with(&self, samples: &[f32], evidence: BarEvidence<'_>) -> Result<BeatAnalysis> {
         let env = self.onset.compute(samples)?;
         let frame_s = env.hop_s;
