@@ -47,7 +47,7 @@ pub struct LearnedParams {
     pub lambda: f64,
     /// Weight of the finger-to-finger costs.
     pub mu: f64,
-    /// Reward per neighbouring note (within [`crate::learned::WINDOW`] notes) that the
+    /// Reward per neighbouring note (within 4 notes, `learned::WINDOW`) that the
     /// same string in the same position also plays.
     pub gamma_string: f64,
     /// Reward per neighbouring note that the same position plays on any string.

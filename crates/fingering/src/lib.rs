@@ -12,7 +12,7 @@
 //! * [`OptimalPlanner`] — Viterbi over all places with tunable [`CostWeights`] for shifts,
 //!   string crossings, high positions and open strings (physical table by default).
 //! * [`LearnedPlanner`] — Viterbi over costs learned from ten violinists' fingerings (the
-//!   TNUA dataset; [`LearnedParams`], trained by the `train` feature's [`train`] module).
+//!   TNUA dataset; [`LearnedParams`], trained by the `train` feature's `train` module).
 //! * [`FingeringStyle`] — knobs for open strings, low or high positions and *sul* passages.
 //!
 //! A [`Fingering`] also tells where the left hand sits along the neck

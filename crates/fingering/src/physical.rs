@@ -54,7 +54,7 @@ const PLACEMENTS_HIGH: [Placement; 2] = [Placement::Normal, Placement::High];
 const PLACEMENTS_OPEN: [Placement; 1] = [Placement::Normal];
 
 /// Semitones above the open string of `position`'s first-finger normal place (also where
-/// the hand sits, [`Fingering::hand_offset_semitones`]): 1 for the half position, then
+/// the hand sits, [`crate::Fingering::hand_offset_semitones`]): 1 for the half position, then
 /// 2, 4, 5, 7, 9, 10, 12, 14, 16, 17, 19, 21, 22, 24 for positions 1..=14. Defined (by the
 /// same octave pattern) for every `u8`.
 pub const fn position_offset(position: u8) -> u16 {

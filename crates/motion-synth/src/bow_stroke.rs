@@ -71,7 +71,7 @@ impl BowPolicy {
     }
 }
 
-/// One stroke of a [`BowPlan`].
+/// One stroke of a [`crate::BowPlan`].
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct PlannedStroke {
     /// First frame.

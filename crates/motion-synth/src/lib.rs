@@ -1,6 +1,6 @@
 //! # motion-synth
 //!
-//! Turns a [`Performance`] — what is played when, and how — into a violinist skeleton
+//! Turns a [`performance::Performance`] — what is played when, and how — into a violinist skeleton
 //! ([`skeleton::Motion`], 30 fps): the spine of the product is *analysis → Performance →
 //! motion* (ARCHITECTURE.md), and this crate is its last arrow (SPEC §5–7).
 //!

@@ -35,7 +35,7 @@ pub fn jitter(motion: &Motion) -> f32 {
     motion.jitter()
 }
 
-/// Summed speed of all joints per frame (`speed[t]` = Σ |p[t+1] − p[t]|, the last frame
+/// Summed speed of all joints per frame (`speed[t] = Σ |p[t+1] − p[t]|`, the last frame
 /// repeating the one before), of a `(T, J, D)` track.
 pub fn summed_joint_speed(track: &Array3<f32>) -> Vec<f64> {
     let t = track.len_of(Axis(0));

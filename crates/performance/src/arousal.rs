@@ -26,7 +26,7 @@ impl ArousalCurve {
     }
 
     /// A curve whose finite values are clipped to [-1, 1] (NaN stays NaN and is rejected by
-    /// [`Performance::new`]).
+    /// [`crate::Performance::new`]).
     ///
     /// ```
     /// let c = performance::ArousalCurve::clamped(2.0, vec![-3.0, 0.5, 7.0]);

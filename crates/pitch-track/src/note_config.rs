@@ -4,7 +4,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::novelty::NoveltyConfig;
 
-/// Parameters of the segmentation (the method is described at [`segment_notes`]).
+/// Parameters of the segmentation (the method is described at [`crate::segment_notes`]).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct NoteConfig {
     /// Shortest note kept, in seconds.

@@ -1,9 +1,9 @@
 //! Python bindings of violin-skeleton: the `violin_skeleton._native` extension module that
 //! the `violin_skeleton` package (in `python/`) wraps.
 //!
-//! Inputs are a path or a NumPy array of samples ([`input`]); results are [`analysis`]'s
-//! `Analysis` and [`motion`]'s `Motion`, computed by [`pipeline`]'s `Pipeline` with the GIL
-//! released; every failure is a `ViolinSkeletonError` ([`errors`]).
+//! Inputs are a path or a NumPy array of samples (`input`); results are `analysis`'s
+//! `Analysis` and `motion`'s `Motion`, computed by `pipeline`'s `Pipeline` with the GIL
+//! released; every failure is a `ViolinSkeletonError` (`errors`).
 
 mod analysis;
 mod errors;

@@ -1,4 +1,4 @@
-//! gru-baseline's training data ([`Dataset`] of [`Sequence`]s) from disk. Two layouts are
+//! gru-baseline's training data ([`Dataset`] of [`gru_baseline::data::Sequence`]s) from disk. Two layouts are
 //! read ([`load_dataset`] tells them apart):
 //! * the synthetic **corpus** (`crates/corpus`): `manifest.json` + `items/NNNNN/{audio.wav,
 //!   motion.json}`, with the manifest's splits ([`corpus`]);

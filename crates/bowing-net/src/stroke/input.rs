@@ -44,7 +44,7 @@ pub fn reference_level_db(mel_db: ArrayView2<f32>) -> f32 {
 const PEAK_SPAN: usize = 4;
 
 /// How far the most prominent spectral peak of each frame stands above the bands
-/// [`PEAK_SPAN`] away on either side (dB), from a [`stroke_input`]: 25–45 dB for a bowed
+/// `PEAK_SPAN` (4) bins away on either side (dB), from a [`stroke_input`]: 25–45 dB for a bowed
 /// note, about 8–13 dB for white, pink or brown noise.
 pub fn tonal_prominence_db(input: &Array2<f32>) -> Vec<f32> {
     let bands = input.ncols().saturating_sub(2);
