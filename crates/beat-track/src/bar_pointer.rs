@@ -156,25 +156,32 @@ fn decode_checked(
     // The bar length: every one of `cfg.beats_per_bar` decoded at the selection rate,
     // without the evidence (a bonus per downbeat would favour the bar lengths with the
     // most downbeats).
+    // The activations at the decoding rate, which is also the selection rate by default.
+    let rate = cfg.upsample;
+    let (beat_up, downbeat_up) = (interpolate(beat, rate), interpolate(downbeat, rate));
     let mut log_probability = Vec::new();
     let mut paths = Vec::new();
     let mut best = 0;
     if cfg.beats_per_bar.len() > 1 {
-        let rate = cfg.selection_rate();
+        let selection = cfg.selection_rate();
         let at = BarPointerConfig {
-            upsample: rate,
+            upsample: selection,
             ..cfg.clone()
         };
-        let obs = observations(
-            &interpolate(beat, rate),
-            &interpolate(downbeat, rate),
-            &[],
-            cfg,
-        );
+        let obs = if selection == rate {
+            observations(&beat_up, &downbeat_up, &[], cfg)
+        } else {
+            observations(
+                &interpolate(beat, selection),
+                &interpolate(downbeat, selection),
+                &[],
+                cfg,
+            )
+        };
         let intervals = at.intervals();
         let region = at.region(&intervals);
         // Decoded at the final rate without evidence, the chosen path is already final.
-        let keep_paths = rate == cfg.upsample && evidence.is_empty();
+        let keep_paths = selection == rate && evidence.is_empty();
         for &n in &cfg.beats_per_bar {
             let (score, path) = BarStateSpace::new(n, &intervals, cfg.transition_lambda, &region)
                 .viterbi(&obs, keep_paths);
@@ -196,8 +203,7 @@ fn decode_checked(
             .unwrap_or(0);
     }
     // The chosen bar length at the decoding rate, with the evidence.
-    let rate = cfg.upsample;
-    let (beat, downbeat) = (interpolate(beat, rate), interpolate(downbeat, rate));
+    let (beat, downbeat) = (beat_up, downbeat_up);
     let path = match paths.get_mut(best).filter(|p| !p.is_empty()) {
         Some(path) => std::mem::take(path),
         None => {

@@ -53,8 +53,8 @@ pub struct BarPointerConfig {
     pub gate_window_s: f64,
     /// Below this confidence no beats are returned.
     pub min_confidence: f32,
-    /// Log-probability per decoded frame (at `fps · selection_upsample`) added to each bar length's
-    /// path (same order as `beats_per_bar`; empty = none) before the most likely bar length
+    /// Log-probability per decoded frame (at `fps ·` [`Self::selection_rate`]) added to each
+    /// bar length's path (same order as `beats_per_bar`; empty = none) before the most likely bar length
     /// is taken: a prior over metres that grows with the recording, as the paths' own
     /// log-probabilities do.
     pub bar_length_prior_per_frame: Vec<f64>,

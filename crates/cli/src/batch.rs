@@ -1,6 +1,6 @@
 //! Batch mode: `generate DIR -o OUTDIR` and `analyze DIR -o OUTDIR` run every recording and
-//! MIDI file under `DIR` in parallel with one [`violin_skeleton::Pipeline`] (its models loaded once), mirror
-//! the folder layout in `OUTDIR`, keep going when a file fails, and write
+//! MIDI file under `DIR` in parallel with one [`violin_skeleton::Pipeline`] (its models
+//! loaded once), mirror the folder layout in `OUTDIR`, keep going when a file fails, and write
 //! `OUTDIR/batch_summary.json` (every failure with its reason). The command exits 1 when any
 //! file failed.
 //!
