@@ -61,6 +61,12 @@ pub struct CorpusArgs {
     /// that choices can be checked on a violin training never hears.
     #[arg(long)]
     pub validation_violin: Option<PathBuf>,
+    /// With `many`: write only the training items, rendered with this violin instead of
+    /// the drawn one — the same kinds of file as --validation-violin, or a folder of one
+    /// recording per note named by the note (A4.mp3, C#5.wav, …) — so that a network can be
+    /// trained on one more violin (`train_strokes … --extra-train DIR`).
+    #[arg(long, conflicts_with = "validation_violin")]
+    pub training_violin: Option<PathBuf>,
     /// Render clean audio (no reverb, noise, gain or tuning changes; 22 050 Hz).
     #[arg(long)]
     pub no_augment: bool,
@@ -85,10 +91,13 @@ pub fn run(args: &CorpusArgs, report: &Reporter) -> Result<(), CliError> {
     if args.repertoire.is_some() && !matches!(args.renderer, RendererArg::Many) {
         return Err(CliError::Usage("--repertoire needs --renderer many".into()));
     }
-    if args.validation_violin.is_some() && !matches!(args.renderer, RendererArg::Many) {
-        return Err(CliError::Usage(
-            "--validation-violin needs --renderer many".into(),
-        ));
+    for (flag, set) in [
+        ("--validation-violin", args.validation_violin.is_some()),
+        ("--training-violin", args.training_violin.is_some()),
+    ] {
+        if set && !matches!(args.renderer, RendererArg::Many) {
+            return Err(CliError::Usage(format!("{flag} needs --renderer many")));
+        }
     }
     let minutes = match (args.minutes, args.hours) {
         (_, Some(h)) if !(h.is_finite() && h > 0.0) => {
@@ -109,6 +118,7 @@ pub fn run(args: &CorpusArgs, report: &Reporter) -> Result<(), CliError> {
         minutes,
         repertoire: args.repertoire.clone(),
         validation_violin: args.validation_violin.clone(),
+        training_violin: args.training_violin.clone(),
         seed: args.seed,
         renderer,
         augment: !args.no_augment,

@@ -65,3 +65,30 @@ fn missing_sources_are_refused_with_the_path() {
     assert_ne!(code, 0);
     assert!(err.contains("/nonexistent/scores"), "{err}");
 }
+
+#[test]
+fn a_recast_violin_needs_the_many_renderer_and_only_one_split() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("c");
+    let out = out.to_str().unwrap();
+    for flag in ["--training-violin", "--validation-violin"] {
+        let (code, err) = run(&["corpus", "--out", out, "--minutes", "1", flag, "/tmp"]);
+        assert_eq!(code, 2, "{flag}: {err}");
+        assert!(err.contains(flag) && err.contains("--renderer many"), "{err}");
+        assert_eq!(err.trim().lines().count(), 1, "{flag}: {err}");
+    }
+    let (code, err) = run(&[
+        "corpus",
+        "--out",
+        out,
+        "--renderer",
+        "many",
+        "--training-violin",
+        "/tmp",
+        "--validation-violin",
+        "/tmp/v.pat",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("cannot be used with"), "{err}");
+    assert!(!dir.path().join("c").exists());
+}

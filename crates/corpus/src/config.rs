@@ -53,6 +53,13 @@ pub struct CorpusConfig {
     /// instead of the one drawn for it (the scores, performances and labels are the same as
     /// in the corpus built without it).
     pub validation_violin: Option<PathBuf>,
+    /// Another training violin (many-violin corpora only): the same kinds of file as
+    /// `validation_violin`, or a folder of per-note recordings (`A4.mp3`, `C#5.wav`, …; see
+    /// `render::sample_dir_samples`). When set, only the training items are written, each
+    /// rendered with this violin instead of the one drawn for it (same scores, performances
+    /// and labels), so that a network can be trained on both corpora. Not with
+    /// `validation_violin`.
+    pub training_violin: Option<PathBuf>,
 }
 
 impl Default for CorpusConfig {
@@ -65,6 +72,7 @@ impl Default for CorpusConfig {
             etude: EtudeConfig::default(),
             repertoire: None,
             validation_violin: None,
+            training_violin: None,
         }
     }
 }

@@ -115,41 +115,66 @@ impl Draws<'_> {
     }
 }
 
-/// The violin of a validation-violin corpus ([`CorpusConfig::validation_violin`]).
-struct ValidationViolin {
+/// The violin every item of one split is played by in a validation-violin or
+/// training-violin corpus ([`CorpusConfig::validation_violin`],
+/// [`CorpusConfig::training_violin`]).
+struct RecastViolin {
     renderer: SoundFontRenderer,
+    split: Split,
     name: String,
     info: ViolinInfo,
 }
 
-impl ValidationViolin {
-    fn load(path: &Path) -> Result<Self, CorpusError> {
+impl RecastViolin {
+    /// The violin of `cfg`'s validation or training recast, if it asks for one.
+    fn of(cfg: &CorpusConfig) -> Result<Option<Self>, CorpusError> {
+        match (&cfg.validation_violin, &cfg.training_violin) {
+            (Some(_), Some(_)) => Err(CorpusError::Config(
+                "a validation violin and a training violin cannot be written into one corpus: \
+                 build them into two folders"
+                    .into(),
+            )),
+            (Some(path), None) => Self::load(path, Split::Val).map(Some),
+            (None, Some(path)) => Self::load(path, Split::Train).map(Some),
+            (None, None) => Ok(None),
+        }
+    }
+
+    fn load(path: &Path, split: Split) -> Result<Self, CorpusError> {
         let is_patch = path
             .extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("pat"));
-        let renderer = if is_patch {
+        let renderer = if path.is_dir() {
+            SoundFontRenderer::from_sample_dir(path)?
+        } else if is_patch {
             SoundFontRenderer::from_gus_patch_file(path)?
         } else {
             SoundFontRenderer::from_file(path)?
         };
+        let role = if split == Split::Val {
+            "validation"
+        } else {
+            "training"
+        };
         if !renderer.has_program(40) {
             return Err(CorpusError::Config(format!(
-                "{}: has no GM program 40 (violin) to render the validation items with",
+                "{}: has no GM program 40 (violin) to render the {role} items with",
                 path.display()
             )));
         }
         let stem = path
             .file_stem()
             .map_or_else(|| "violin".into(), |s| s.to_string_lossy().to_string());
-        let name = format!("validation:{stem}");
+        let name = format!("{role}:{stem}");
         let info = ViolinInfo {
             name: name.clone(),
             file: path.display().to_string(),
             license: "as its file states".into(),
-            held_out: true,
+            held_out: split != Split::Train,
         };
         Ok(Self {
             renderer,
+            split,
             name,
             info,
         })
@@ -177,10 +202,7 @@ pub fn build_many(
         test_violins: bank.indices(true),
     };
     let count = draws.count();
-    let validation = match &cfg.validation_violin {
-        Some(path) => Some(ValidationViolin::load(path)?),
-        None => None,
-    };
+    let recast = RecastViolin::of(cfg)?;
     let done = AtomicUsize::new(0);
     type Entry = (ManifestItem, Timeline, String, (usize, usize));
     let entries: Vec<Result<Option<Entry>, CorpusError>> = (0..count)
@@ -193,32 +215,32 @@ pub fn build_many(
                 mut rng,
                 item_seed,
             } = draws.item(i);
-            if validation.is_some() && plan.split != Split::Val {
+            if recast.as_ref().is_some_and(|v| plan.split != v.split) {
                 progress(done.fetch_add(1, Ordering::Relaxed) + 1, count);
                 return Ok(None);
             }
             let spec = bank
                 .spec(violin)
                 .ok_or_else(|| CorpusError::Config(format!("no violin source {violin}")))?;
-            let (renderer, kind, name): (Box<dyn Renderer + '_>, RendererKind, &str) =
-                match &validation {
-                    Some(v) => (
-                        Box::new(v.renderer.clone()),
-                        RendererKind::Soundfont,
-                        &v.name,
-                    ),
-                    None => {
-                        let renderer = bank.renderer(violin, &mut rng).ok_or_else(|| {
-                            CorpusError::Config(format!("no violin source {violin}"))
-                        })?;
-                        let kind = match spec.kind {
-                            SourceKind::Builtin => RendererKind::Builtin,
-                            SourceKind::Waveguide => RendererKind::Waveguide,
-                            SourceKind::SoundFont { .. } => RendererKind::Soundfont,
-                        };
-                        (renderer, kind, spec.name)
-                    }
-                };
+            let (renderer, kind, name): (Box<dyn Renderer + '_>, RendererKind, &str) = match &recast
+            {
+                Some(v) => (
+                    Box::new(v.renderer.clone()),
+                    RendererKind::Soundfont,
+                    &v.name,
+                ),
+                None => {
+                    let renderer = bank
+                        .renderer(violin, &mut rng)
+                        .ok_or_else(|| CorpusError::Config(format!("no violin source {violin}")))?;
+                    let kind = match spec.kind {
+                        SourceKind::Builtin => RendererKind::Builtin,
+                        SourceKind::Waveguide => RendererKind::Waveguide,
+                        SourceKind::SoundFont { .. } => RendererKind::Soundfont,
+                    };
+                    (renderer, kind, spec.name)
+                }
+            };
             let item = make_score_item(&score, item_seed, renderer.as_ref(), kind, cfg.augment)?;
             let written = write_item(root, i, &item)?;
             let audio = crate::layout::item_audio(&written)
@@ -249,7 +271,7 @@ pub fn build_many(
         renderer: "many".into(),
         items: entries.into_iter().map(|(e, _, _, _)| e).collect(),
         stats,
-        violins: match &validation {
+        violins: match &recast {
             Some(v) => vec![v.info.clone()],
             None => bank.infos(),
         },

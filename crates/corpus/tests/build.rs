@@ -19,6 +19,7 @@ fn small(renderer: RendererChoice) -> CorpusConfig {
         },
         repertoire: None,
         validation_violin: None,
+        training_violin: None,
     }
 }
 

@@ -258,6 +258,70 @@ fn a_validation_violin_renders_only_the_validation_items_with_the_same_labels() 
 }
 
 #[test]
+fn a_training_violin_renders_only_the_training_items_from_a_sample_folder() {
+    let rep = tempfile::tempdir().unwrap();
+    let samples = tempfile::tempdir().unwrap();
+    // A folder of two per-note recordings (saw-like tones at G3 and A4).
+    for (name, hz) in [("G3.wav", 196.0), ("A4.wav", 440.0)] {
+        let spec = hound::WavSpec {
+            channels: 1,
+            sample_rate: 22_050,
+            bits_per_sample: 16,
+            sample_format: hound::SampleFormat::Int,
+        };
+        let mut w = hound::WavWriter::create(samples.path().join(name), spec).unwrap();
+        for i in 0..22_050 {
+            let t = i as f64 * hz / 22_050.0;
+            w.write_sample(((t.fract() - 0.5) * 16_000.0) as i16)
+                .unwrap();
+        }
+        w.finalize().unwrap();
+    }
+    let cfg = many_config(rep.path(), 2.0, 5).unwrap();
+    let (plain, heard) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
+    let m = build_corpus(plain.path(), &cfg, &|_, _| {}).unwrap();
+    let with_violin = CorpusConfig {
+        training_violin: Some(samples.path().to_path_buf()),
+        ..cfg.clone()
+    };
+    let v = build_corpus(heard.path(), &with_violin, &|_, _| {}).unwrap();
+    let train: Vec<_> = m.items.iter().filter(|i| i.split == Split::Train).collect();
+    assert!(!train.is_empty());
+    assert_eq!(v.items.len(), train.len());
+    assert_eq!(v.violins.len(), 1);
+    assert!(!v.violins[0].held_out);
+    for (a, b) in train.iter().zip(&v.items) {
+        assert_eq!((a.dir.as_str(), b.split), (b.dir.as_str(), Split::Train));
+        assert!(b.violin.starts_with("training:"), "{}", b.violin);
+        assert_eq!(
+            std::fs::read(plain.path().join(&a.dir).join("labels.json")).unwrap(),
+            std::fs::read(heard.path().join(&b.dir).join("labels.json")).unwrap(),
+        );
+    }
+    // Both recasts at once are refused, and so is a folder with no note file.
+    let both = CorpusConfig {
+        validation_violin: Some(samples.path().join("G3.wav")),
+        ..with_violin
+    };
+    let e = build_corpus(tempfile::tempdir().unwrap().path(), &both, &|_, _| {})
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("two folders"), "{e}");
+    let empty = tempfile::tempdir().unwrap();
+    let e = build_corpus(
+        tempfile::tempdir().unwrap().path(),
+        &CorpusConfig {
+            training_violin: Some(empty.path().to_path_buf()),
+            ..cfg
+        },
+        &|_, _| {},
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("no file named by a note"), "{e}");
+}
+
+#[test]
 fn a_missing_soundfont_folder_is_refused_with_its_path() {
     let out = tempfile::tempdir().unwrap();
     let cfg = CorpusConfig {

@@ -8,9 +8,11 @@
 //! cargo run --release -p violin-train --example train_strokes -- CORPUS OUT.safetensors EPOCHS --init W.safetensors --lr 5e-4 --seed 2 [--direction-weight 2] [--eq-db 6]
 //! cargo run --release -p violin-train --example train_strokes -- CORPUS --eval W.safetensors [--write-ensemble]
 //! cargo run --release -p violin-train --example train_strokes -- CORPUS OUT.safetensors EPOCHS --val-violin waveguide
-//! cargo run --release -p violin-train --example train_strokes -- CORPUS OUT.safetensors EPOCHS --init W --eq-db 6 --extra-val VAL_VIOLIN_CORPUS
+//! cargo run --release -p violin-train --example train_strokes -- CORPUS OUT.safetensors EPOCHS --init W --eq-db 6 --extra-val VAL_VIOLIN_CORPUS [--extra-train TRAIN_VIOLIN_CORPUS]
 //! ```
 //!
+//! `--extra-train DIR` adds the training items of a training-violin corpus (`violin-skeleton
+//! corpus … --training-violin V`) to training.
 //! `--val-violin NAME` moves the training items of one violin source into validation, so the
 //! network never hears that violin and validation measures what a new violin costs.
 //! `--extra-val DIR` adds the validation items of a validation-violin corpus (`violin-skeleton
@@ -34,7 +36,8 @@ use bowing_net::stroke::train::{train_strokes, StrokeTrainConfig};
 use bowing_net::stroke::StrokeDetector;
 use bowing_net::{BowChangeDetector, BowingModel};
 use violin_train::bowing_data::{
-    add_validation_violin, load_dataset, move_violin_to_validation, read_manifest,
+    add_training_violin, add_validation_violin, load_dataset, move_violin_to_validation,
+    read_manifest,
 };
 use violin_train::evaluate::Tally;
 use violin_train::stroke_directions::{
@@ -70,6 +73,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     {
         let n = add_validation_violin(std::path::Path::new(extra), &mut data)?;
         eprintln!("{extra}: {n} validation items added to validation");
+    }
+    if let Some(extra) = args
+        .iter()
+        .position(|a| a == "--extra-train")
+        .and_then(|i| args.get(i + 1))
+    {
+        let n = add_training_violin(std::path::Path::new(extra), &mut data)?;
+        eprintln!("{extra}: {n} training items added to training");
     }
     eprintln!(
         "loaded {} train / {} val / {} test recordings in {:.0} s",

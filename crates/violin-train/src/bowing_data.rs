@@ -401,10 +401,29 @@ pub fn add_validation_violin(dir: &Path, data: &mut Splits) -> Result<usize> {
     let root = std::fs::canonicalize(dir)
         .map_err(|e| NetError::data(dir, format!("cannot open the corpus folder ({e})")))?;
     let extra = load_dataset(&root, &|_, _| {})?;
-    let n = extra.val.len();
-    for mut r in extra.val {
-        r.name = root.join(&r.name).display().to_string();
-        data.val.push(r);
+    Ok(add_named(&root, extra.val, &mut data.val))
+}
+
+/// Adds the training items of a training-violin corpus (`violin-skeleton corpus …
+/// --training-violin V`: the training items played by one more violin) to `data`'s training
+/// set, named as in [`add_validation_violin`]. Returns how many were added; a corpus with no
+/// training item is refused.
+pub fn add_training_violin(dir: &Path, data: &mut Splits) -> Result<usize> {
+    let root = std::fs::canonicalize(dir)
+        .map_err(|e| NetError::data(dir, format!("cannot open the corpus folder ({e})")))?;
+    let extra = load_dataset(&root, &|_, _| {})?;
+    if extra.train.is_empty() {
+        return Err(NetError::data(&root, "has no training item to add").into());
     }
-    Ok(n)
+    Ok(add_named(&root, extra.train, &mut data.train))
+}
+
+/// Appends `items` to `to`, each renamed by its folder's absolute path under `root`.
+fn add_named(root: &Path, items: Vec<Recording>, to: &mut Vec<Recording>) -> usize {
+    let n = items.len();
+    for mut r in items {
+        r.name = root.join(&r.name).display().to_string();
+        to.push(r);
+    }
+    n
 }

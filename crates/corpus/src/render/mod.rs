@@ -1,10 +1,13 @@
-//! Audio renderers: the built-in bowed-string synthesizer, behind one [`Renderer`] trait.
+//! Audio renderers: the built-in bowed-string synthesizer, the digital waveguide and
+//! SoundFonts (and the sample sets read into one: GUS patches, folders of per-note
+//! recordings), behind one [`Renderer`] trait.
 
 mod biquad;
 mod bowed;
 mod gus_patch;
 mod portato;
 mod renderer;
+mod sample_dir;
 mod sf2_writer;
 mod soundfont;
 mod waveguide;
@@ -15,6 +18,7 @@ pub use bowed::{BowedConfig, BowedStringSynth};
 pub use gus_patch::{gus_patch_samples, sf2_from_gus_patch};
 pub use portato::{is_portato, portato_gain, PORTATO_FALL_S, PORTATO_FLOOR, PORTATO_RISE_S};
 pub use renderer::{RenderError, RenderSettings, Renderer};
+pub use sample_dir::{note_key, sample_dir_samples, MAX_SAMPLE_S};
 pub use sf2_writer::{tiny_violin_sf2, write_sf2, Sf2Sample};
 pub use soundfont::SoundFontRenderer;
 pub use waveguide::{WaveguideConfig, WaveguideViolin};
