@@ -62,7 +62,8 @@ pub struct CorpusArgs {
     #[arg(long)]
     pub validation_violin: Option<PathBuf>,
     /// With `many`: write only the training items, rendered with this violin instead of
-    /// the drawn one — the same kinds of file as --validation-violin, or a folder of one
+    /// the drawn one — the same kinds of file as --validation-violin, an SF2 with another
+    /// GM program after a colon (FluidR3_GM.sf2:41, the viola), or a folder of one
     /// recording per note named by the note (A4.mp3, C#5.wav, …) — so that a network can be
     /// trained on one more violin (`train_strokes … --extra-train DIR`).
     #[arg(long, conflicts_with = "validation_violin")]

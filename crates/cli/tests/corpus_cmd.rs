@@ -74,7 +74,10 @@ fn a_recast_violin_needs_the_many_renderer_and_only_one_split() {
     for flag in ["--training-violin", "--validation-violin"] {
         let (code, err) = run(&["corpus", "--out", out, "--minutes", "1", flag, "/tmp"]);
         assert_eq!(code, 2, "{flag}: {err}");
-        assert!(err.contains(flag) && err.contains("--renderer many"), "{err}");
+        assert!(
+            err.contains(flag) && err.contains("--renderer many"),
+            "{err}"
+        );
         assert_eq!(err.trim().lines().count(), 1, "{flag}: {err}");
     }
     let (code, err) = run(&[

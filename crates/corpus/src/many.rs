@@ -141,6 +141,8 @@ impl RecastViolin {
     }
 
     fn load(path: &Path, split: Split) -> Result<Self, CorpusError> {
+        let (path, program) = split_program(path);
+        let path = path.as_path();
         let is_patch = path
             .extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("pat"));
@@ -149,23 +151,27 @@ impl RecastViolin {
         } else if is_patch {
             SoundFontRenderer::from_gus_patch_file(path)?
         } else {
-            SoundFontRenderer::from_file(path)?
+            SoundFontRenderer::from_file(path)?.with_program(program)
         };
         let role = if split == Split::Val {
             "validation"
         } else {
             "training"
         };
-        if !renderer.has_program(40) {
+        if !renderer.has_program(program) {
             return Err(CorpusError::Config(format!(
-                "{}: has no GM program 40 (violin) to render the {role} items with",
+                "{}: has no GM program {program} to render the {role} items with",
                 path.display()
             )));
         }
         let stem = path
             .file_stem()
             .map_or_else(|| "violin".into(), |s| s.to_string_lossy().to_string());
-        let name = format!("{role}:{stem}");
+        let name = if program == 40 {
+            format!("{role}:{stem}")
+        } else {
+            format!("{role}:{stem}-{program}")
+        };
         let info = ViolinInfo {
             name: name.clone(),
             file: path.display().to_string(),
@@ -179,6 +185,22 @@ impl RecastViolin {
             info,
         })
     }
+}
+
+/// An SF2 path with a GM program after a colon (`FluidR3_GM.sf2:41`, the viola) split into
+/// the file and the program; any other path plays program 40 (violin).
+fn split_program(path: &Path) -> (std::path::PathBuf, u8) {
+    let text = path.to_string_lossy();
+    if !path.exists() {
+        if let Some((file, program)) = text.rsplit_once(':') {
+            if let Ok(p) = program.parse::<u8>() {
+                if p < 128 {
+                    return (file.into(), p);
+                }
+            }
+        }
+    }
+    (path.to_path_buf(), 40)
 }
 
 /// Builds a many-violin corpus into `root` (see [`crate::build::build_corpus`]).

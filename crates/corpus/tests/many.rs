@@ -312,13 +312,41 @@ fn a_training_violin_renders_only_the_training_items_from_a_sample_folder() {
         tempfile::tempdir().unwrap().path(),
         &CorpusConfig {
             training_violin: Some(empty.path().to_path_buf()),
-            ..cfg
+            ..cfg.clone()
         },
         &|_, _| {},
     )
     .unwrap_err()
     .to_string();
     assert!(e.contains("no file named by a note"), "{e}");
+    // An SF2 with a program after a colon plays that program, or is refused without it.
+    let fonts = tempfile::tempdir().unwrap();
+    let sf2 = fonts.path().join("tiny.sf2");
+    std::fs::write(&sf2, corpus::render::tiny_violin_sf2()).unwrap();
+    let e = build_corpus(
+        tempfile::tempdir().unwrap().path(),
+        &CorpusConfig {
+            training_violin: Some(format!("{}:41", sf2.display()).into()),
+            ..cfg.clone()
+        },
+        &|_, _| {},
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("tiny.sf2") && e.contains("no GM program 41"),
+        "{e}"
+    );
+    let v = build_corpus(
+        tempfile::tempdir().unwrap().path(),
+        &CorpusConfig {
+            training_violin: Some(format!("{}:40", sf2.display()).into()),
+            ..cfg
+        },
+        &|_, _| {},
+    )
+    .unwrap();
+    assert_eq!(v.violins[0].name, "training:tiny");
 }
 
 #[test]

@@ -152,7 +152,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let q = probabilities(&cnn, &net, &unheard, averaging)?;
         let row = |what: String, f: [f64; 3]| {
             println!(
-                "| {} | {what} | {:.3} | {:.3} | {:.3} |",
+                "| {} | {what} | {:.4} | {:.4} | {:.4} |",
                 w.display(),
                 f[0],
                 f[1],
