@@ -66,7 +66,7 @@ pub use places::places_for;
 pub use planner::FingeringPlanner;
 pub use string::ViolinString;
 pub use style::{FingeringStyle, SulPassage};
-pub use table::{FingeringTable, ORIGINAL_TABLE_TSV};
+pub use table::{note_name_to_midi, FingeringTable, ORIGINAL_TABLE_TSV};
 
 /// The README's example, compiled and run as a doctest.
 #[cfg(doctest)]

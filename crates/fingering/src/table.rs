@@ -230,8 +230,15 @@ pub(crate) fn nearest_placement(
     best
 }
 
-/// `C4` → 60, `C#4` / `Db4` / `C4#` → 61; `None` if it is not a note name.
-fn note_name_to_midi(name: &str) -> Option<i32> {
+/// The MIDI key of a note name in scientific pitch notation: `C4` → 60, `C#4` / `Cs4` /
+/// `Db4` / `C4#` → 61; `None` if it is not a note name (the key is not range-checked).
+///
+/// ```
+/// assert_eq!(fingering::note_name_to_midi("A4"), Some(69));
+/// assert_eq!(fingering::note_name_to_midi("As3"), Some(58));
+/// assert_eq!(fingering::note_name_to_midi("violin"), None);
+/// ```
+pub fn note_name_to_midi(name: &str) -> Option<i32> {
     let mut chars = name.chars();
     let class = match chars.next()?.to_ascii_uppercase() {
         'C' => 0,
@@ -244,7 +251,8 @@ fn note_name_to_midi(name: &str) -> Option<i32> {
         _ => return None,
     };
     let rest = chars.as_str();
-    let (alter, rest) = if let Some(r) = rest.strip_prefix('#') {
+    let sharp = rest.strip_prefix('#').or_else(|| rest.strip_prefix('s'));
+    let (alter, rest) = if let Some(r) = sharp {
         (1, r)
     } else if let Some(r) = rest.strip_prefix('b') {
         (-1, r)
@@ -253,7 +261,8 @@ fn note_name_to_midi(name: &str) -> Option<i32> {
     } else {
         (0, rest)
     };
-    let octave: i32 = rest.parse().ok()?;
+    // Octaves far outside MIDI's are refused rather than overflowing.
+    let octave: i32 = rest.parse().ok().filter(|o: &i32| o.abs() <= 100)?;
     Some(12 * (octave + 1) + class + alter)
 }
 
@@ -270,6 +279,8 @@ mod tests {
         assert_eq!(note_name_to_midi("A7"), Some(105));
         assert_eq!(note_name_to_midi("H4"), None);
         assert_eq!(note_name_to_midi("C"), None);
+        assert_eq!(note_name_to_midi("A999999999"), None);
+        assert_eq!(note_name_to_midi("Cs4"), Some(61));
     }
 
     #[test]

@@ -16,8 +16,8 @@ use crate::render::SoundFontRenderer;
 /// The longest recording kept per note, s (longer ones are cut; the loop holds the note).
 pub const MAX_SAMPLE_S: f64 = 12.0;
 
-/// The MIDI key a file stem names: a letter A–G, an optional `#`/`s` (sharp) or `b`
-/// (flat), and an octave −1..=9 in scientific pitch notation (`A4` = 69).
+/// The MIDI key a file stem names, in scientific pitch notation (`A4` = 69, `C#5` = `Cs5` =
+/// `Db5` = 73; [`fingering::note_name_to_midi`]), when it is a key 0..=127.
 ///
 /// ```
 /// use corpus::render::note_key;
@@ -27,26 +27,8 @@ pub const MAX_SAMPLE_S: f64 = 12.0;
 /// assert_eq!(note_key("violin"), None);
 /// ```
 pub fn note_key(stem: &str) -> Option<u8> {
-    let mut chars = stem.chars();
-    let letter = match chars.next()?.to_ascii_uppercase() {
-        'C' => 0,
-        'D' => 2,
-        'E' => 4,
-        'F' => 5,
-        'G' => 7,
-        'A' => 9,
-        'B' => 11,
-        _ => return None,
-    };
-    let rest: String = chars.collect();
-    let (accidental, octave) = match rest.chars().next()? {
-        '#' | 's' => (1, &rest[1..]),
-        'b' => (-1, &rest[1..]),
-        _ => (0, rest.as_str()),
-    };
-    let octave: i32 = octave.parse().ok().filter(|o| (-1..=9).contains(o))?;
-    u8::try_from(12 * (octave + 1) + letter + accidental)
-        .ok()
+    fingering::note_name_to_midi(stem)
+        .and_then(|k| u8::try_from(k).ok())
         .filter(|k| *k <= 127)
 }
 
