@@ -56,10 +56,10 @@ pub struct CorpusConfig {
     /// Another training violin (many-violin corpora only): the same kinds of file as
     /// `validation_violin`, an SF2 with another GM program after a colon
     /// (`FluidR3_GM.sf2:41`, the viola), or a folder of per-note recordings (`A4.mp3`,
-    /// `C#5.wav`, …; see `render::sample_dir_samples`). When set, only the training items are written, each
-    /// rendered with this violin instead of the one drawn for it (same scores, performances
-    /// and labels), so that a network can be trained on both corpora. Not with
-    /// `validation_violin`.
+    /// `C#5.wav`, …; see `render::sample_dir_samples`). When set, only the training items
+    /// are written, each rendered with this violin instead of the one drawn for it (same
+    /// scores, performances and labels), so that a network can be trained on both corpora.
+    /// Not with `validation_violin`.
     pub training_violin: Option<PathBuf>,
 }
 
