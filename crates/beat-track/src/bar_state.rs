@@ -14,6 +14,23 @@
 /// Log-probabilities below this are treated as impossible transitions.
 const MIN_LOG_TRANSITION: f64 = -16.0;
 
+/// A tempo's predecessors as a contiguous window: its first tempo and the log-probabilities
+/// from there on (−∞ where a transition inside the window was dropped).
+fn window(pairs: Vec<(usize, f64)>) -> (usize, Vec<f64>) {
+    let first = pairs.iter().map(|p| p.0).min().unwrap_or(0);
+    let last = pairs.iter().map(|p| p.0).max().unwrap_or(0);
+    let len = if pairs.is_empty() {
+        0
+    } else {
+        last - first + 1
+    };
+    let mut lps = vec![f64::NEG_INFINITY; len];
+    for (qf, lp) in pairs {
+        lps[qf - first] = lp;
+    }
+    (first, lps)
+}
+
 /// Per-frame log-likelihoods of the three observations.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct FrameObservation {
@@ -39,9 +56,11 @@ pub(crate) struct BarStateSpace {
     offsets: Vec<usize>,
     /// Frames of each beat that observe a beat, per tempo.
     region: Vec<usize>,
-    /// For every tempo q, the (previous tempo, log-probability) pairs that may precede it.
-    /// (The log-probability is rounded to `f32`, held as `f64`.)
-    incoming: Vec<Vec<(usize, f64)>>,
+    /// For every tempo q, the previous tempi that may precede it: the first one, and the
+    /// log-probabilities of it and the following ones (a contiguous window; −∞ for a
+    /// dropped transition inside it). The log-probability is rounded to `f32`, held as
+    /// `f64`.
+    incoming: Vec<(usize, Vec<f64>)>,
     /// Whether block k is a bar's first beat.
     downbeat_block: Vec<bool>,
     states: usize,
@@ -66,7 +85,7 @@ impl BarStateSpace {
             }
         }
         // exp(−λ|to/from − 1|), normalised over `to` for every `from`.
-        let mut incoming = vec![Vec::new(); intervals.len()];
+        let mut incoming: Vec<Vec<(usize, f64)>> = vec![Vec::new(); intervals.len()];
         for (qf, &from) in intervals.iter().enumerate() {
             let raw: Vec<f64> = intervals
                 .iter()
@@ -81,6 +100,7 @@ impl BarStateSpace {
                 }
             }
         }
+        let incoming = incoming.into_iter().map(window).collect();
         Self {
             downbeat_block: (0..offsets.len()).map(|k| k % beats == 0).collect(),
             beats,
@@ -149,29 +169,35 @@ impl BarStateSpace {
         let block_len: Vec<usize> = (0..blocks).map(len).collect();
         let region: Vec<usize> = (0..blocks).map(|k| self.region[k / nb]).collect();
         for (t, o) in obs.iter().enumerate().skip(1) {
-            for k in 0..blocks {
-                let slot = if head[k] == 0 {
-                    block_len[k] - 1
-                } else {
-                    head[k] - 1
-                };
-                lasts[k] = raw[self.offsets[k] + slot] + base[k];
+            for q in 0..nq {
+                for b in 0..nb {
+                    let k = q * nb + b;
+                    let slot = if head[k] == 0 {
+                        block_len[k] - 1
+                    } else {
+                        head[k] - 1
+                    };
+                    // Beat-major, so that a tempo's predecessors are adjacent.
+                    lasts[b * nq + q] = raw[self.offsets[k] + slot] + base[k];
+                }
             }
             let mut back_t = back.get_mut(t * blocks..(t + 1) * blocks);
-            for (q, incoming) in self.incoming.iter().enumerate() {
-                for b in 0..nb {
-                    let prev_beat = if b == 0 { nb - 1 } else { b - 1 };
+            for b in 0..nb {
+                let prev_beat = if b == 0 { nb - 1 } else { b - 1 };
+                let prev = &lasts[prev_beat * nq..(prev_beat + 1) * nq];
+                for (q, (first, lps)) in self.incoming.iter().enumerate() {
+                    let from = prev.get(*first..first + lps.len()).unwrap_or(&[]);
                     let mut best = f64::NEG_INFINITY;
                     let mut arg = 0usize;
-                    for &(qf, lp) in incoming {
-                        let v = lasts[qf * nb + prev_beat] + lp;
-                        // Branch-free (the comparison is unpredictable).
+                    for (j, (&last, &lp)) in from.iter().zip(lps).enumerate() {
+                        let v = last + lp;
+                        // Branch-free (the comparison is unpredictable); not `f64::max`:
+                        // no value here is NaN (−∞ at worst), and the plain comparison
+                        // compiles to one `maxsd`.
+                        let better = v > best;
+                        best = if better { v } else { best };
                         if KEEP_PATH {
-                            let better = v > best;
-                            best = if better { v } else { best };
-                            arg = if better { qf } else { arg };
-                        } else {
-                            best = best.max(v);
+                            arg = if better { first + j } else { arg };
                         }
                     }
                     if let Some(back_t) = back_t.as_deref_mut() {
