@@ -14,7 +14,11 @@
 //! (`bowing_net::stroke::timbre`, at most DEPTH_DB deep, curves drawn from SEED): test-time
 //! averaging over the timbres training augmented with.
 //!
-//! `cargo run --release -p violin-train --example validation_violin -- CORPUS VAL_VIOLIN_CORPUS W.safetensors [W2 …] [--write] [--timbre-averaging K:DEPTH_DB:SEED]`
+//! With `--partner P.safetensors`, the ensemble's other member is the stroke network `P`
+//! instead of the CNN (two stroke networks averaged: an experiment, not a shipped model, so
+//! `--write` is refused with it).
+//!
+//! `cargo run --release -p violin-train --example validation_violin -- CORPUS VAL_VIOLIN_CORPUS W.safetensors [W2 …] [--write] [--timbre-averaging K:DEPTH_DB:SEED] [--partner P.safetensors]`
 
 use std::path::{Path, PathBuf};
 
@@ -78,9 +82,27 @@ fn stroke_changes(
     Ok(change)
 }
 
+/// The ensemble's other member: the shipped CNN or a second stroke network.
+enum Partner {
+    Cnn(BowChangeDetector),
+    Strokes(StrokeDetector),
+}
+
+impl Partner {
+    fn changes(
+        &self,
+        mel: ndarray::ArrayView2<f32>,
+    ) -> Result<Vec<f32>, Box<dyn std::error::Error>> {
+        Ok(match self {
+            Partner::Cnn(cnn) => cnn.frame_probabilities(mel)?,
+            Partner::Strokes(net) => net.frame_outputs(mel)?.change,
+        })
+    }
+}
+
 /// (network alone, ensemble) change probabilities of every recording.
 fn probabilities(
-    cnn: &BowChangeDetector,
+    partner: &Partner,
     net: &StrokeDetector,
     recs: &[Recording],
     averaging: Averaging,
@@ -88,7 +110,7 @@ fn probabilities(
     let mut alone = Vec::with_capacity(recs.len());
     let mut ensemble = Vec::with_capacity(recs.len());
     for r in recs {
-        let a = cnn.frame_probabilities(r.mel_db.view())?;
+        let a = partner.changes(r.mel_db.view())?;
         let b = stroke_changes(net, r.mel_db.view(), averaging)?;
         let mut mean = b.clone();
         bowing_net::stroke::average_changes(&mut mean, &a);
@@ -119,13 +141,16 @@ fn f1s(
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let usage = "usage: validation_violin CORPUS VAL_VIOLIN_CORPUS W.safetensors [W2 …] [--write] [--timbre-averaging K:DEPTH_DB:SEED]";
+    let usage = "usage: validation_violin CORPUS VAL_VIOLIN_CORPUS W.safetensors [W2 …] [--write] [--timbre-averaging K:DEPTH_DB:SEED] [--partner P.safetensors]";
     let write = args.iter().any(|a| a == "--write");
     let averaging = parse_averaging(&args)?;
     let paths: Vec<PathBuf> = args
         .iter()
         .enumerate()
-        .filter(|(i, a)| !a.starts_with("--") && (*i == 0 || args[i - 1] != "--timbre-averaging"))
+        .filter(|(i, a)| {
+            !a.starts_with("--")
+                && (*i == 0 || !["--timbre-averaging", "--partner"].contains(&args[i - 1].as_str()))
+        })
         .map(|(_, a)| a)
         .map(PathBuf::from)
         .collect();
@@ -143,13 +168,30 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         unheard.len(),
         other.display()
     );
-    let cnn = BowChangeDetector::pretrained()?;
+    let partner_path = args
+        .iter()
+        .position(|a| a == "--partner")
+        .map(|i| {
+            args.get(i + 1)
+                .map(PathBuf::from)
+                .ok_or("--partner needs a weights file")
+        })
+        .transpose()?;
+    if write && partner_path.is_some() {
+        return Err(
+            "--write stores the CNN ensemble's decoder; it cannot be used with --partner".into(),
+        );
+    }
+    let partner = match &partner_path {
+        Some(p) => Partner::Strokes(StrokeDetector::load(p)?),
+        None => Partner::Cnn(BowChangeDetector::pretrained()?),
+    };
     println!("| weights | decoder | training violins | unheard violin | both |");
     println!("|---|---|---|---|---|");
     for (k, w) in weights.iter().enumerate() {
         let mut net = StrokeDetector::load(w)?;
-        let p = probabilities(&cnn, &net, &heard, averaging)?;
-        let q = probabilities(&cnn, &net, &unheard, averaging)?;
+        let p = probabilities(&partner, &net, &heard, averaging)?;
+        let q = probabilities(&partner, &net, &unheard, averaging)?;
         let row = |what: String, f: [f64; 3]| {
             println!(
                 "| {} | {what} | {:.4} | {:.4} | {:.4} |",
@@ -167,7 +209,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let all_p: Probs = p.1.iter().chain(&q.1).cloned().collect();
         let all_r: Vec<Recording> = heard.iter().chain(&unheard).cloned().collect();
         let (tuned, tuned_f1) = tune_decoder(&all_p, &all_r);
-        let stored = net.ensemble_decoder();
+        let stored = match partner {
+            Partner::Cnn(_) => net.ensemble_decoder(),
+            Partner::Strokes(_) => None,
+        };
         if let Some(s) = stored {
             row(
                 format!("ensemble, stored {s:?}"),
