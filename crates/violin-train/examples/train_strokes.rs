@@ -57,29 +57,24 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let corpus = PathBuf::from(corpus);
     let started = std::time::Instant::now();
     let mut data = load_dataset(&corpus, &|_, _| {})?;
-    let val_violin = args
-        .iter()
-        .position(|a| a == "--val-violin")
-        .and_then(|i| args.get(i + 1))
-        .cloned();
+    // The value after a `--name` flag.
+    let flag = |name: &str| {
+        args.iter()
+            .position(|a| a == name)
+            .and_then(|i| args.get(i + 1))
+            .cloned()
+    };
+    let val_violin = flag("--val-violin");
     if let Some(violin) = &val_violin {
         let n = move_violin_to_validation(&corpus, violin, &mut data)?;
         eprintln!("validation violin {violin}: {n} training items moved to validation");
     }
-    if let Some(extra) = args
-        .iter()
-        .position(|a| a == "--extra-val")
-        .and_then(|i| args.get(i + 1))
-    {
-        let n = add_validation_violin(std::path::Path::new(extra), &mut data)?;
+    if let Some(extra) = flag("--extra-val") {
+        let n = add_validation_violin(std::path::Path::new(&extra), &mut data)?;
         eprintln!("{extra}: {n} validation items added to validation");
     }
-    if let Some(extra) = args
-        .iter()
-        .position(|a| a == "--extra-train")
-        .and_then(|i| args.get(i + 1))
-    {
-        let n = add_training_violin(std::path::Path::new(extra), &mut data)?;
+    if let Some(extra) = flag("--extra-train") {
+        let n = add_training_violin(std::path::Path::new(&extra), &mut data)?;
         eprintln!("{extra}: {n} training items added to training");
     }
     eprintln!(
@@ -94,12 +89,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         PathBuf::from(args.get(2).ok_or("--eval needs a weights file")?)
     } else {
         let out = PathBuf::from(second);
-        let flag = |name: &str| {
-            args.iter()
-                .position(|a| a == name)
-                .and_then(|i| args.get(i + 1))
-                .cloned()
-        };
         let defaults = StrokeTrainConfig::default();
         let cfg = StrokeTrainConfig {
             epochs: args
