@@ -1,6 +1,6 @@
 //! Inference cost: the CNN's frame probabilities (stride 1) over 180 s of mel frames (5 400
-//! windows), the stroke network's whole analysis of the same 180 s, and one CNN training
-//! step of the default settings.
+//! windows), the stroke network's and the default ensemble's whole analysis of the same
+//! 180 s, and one CNN training step of the default settings.
 #![allow(clippy::unwrap_used, clippy::expect_used, missing_docs)]
 
 use bowing_net::infer::frame_probabilities;
@@ -30,6 +30,12 @@ fn bench(c: &mut Criterion) {
     let strokes = bowing_net::BowingModel::pretrained_strokes().unwrap();
     group.bench_function("stroke_net_analyze_180s", |b| {
         b.iter(|| strokes.analyze_mel(mel.view()).unwrap())
+    });
+
+    // The shipped default: the CNN and the stroke network averaged, decoded.
+    let ensemble = bowing_net::BowingModel::pretrained().unwrap();
+    group.bench_function("default_ensemble_analyze_180s", |b| {
+        b.iter(|| ensemble.analyze_mel(mel.view()).unwrap())
     });
 
     // One training step of the default settings: forward through the phase tree in

@@ -44,31 +44,39 @@ fn random_net(seed: u64) -> (VarMap, BowingNet) {
     BowingNet::seeded(&Config::default(), WeightInit::HeUniform, seed).unwrap()
 }
 
+/// Every forward path of the op: 4 output channels (im2col + GEMM), 8 and 16 unpadded (the
+/// direct kernel on CPUs with AVX2 + FMA: blocks of positions plus a tail), padded (GEMM),
+/// one input channel (the CNN's first layer).
 #[test]
 fn conv_matches_candle_forward() {
-    let x = random(&[2, 9, 11, 3], 1);
-    let w = random(&[4, 3, 5, 5], 2);
-    let b = random(&[4], 3);
-    for pad in [0usize, 2] {
-        let ours = conv2d_nhwc(&x, &w, &b, (pad, pad)).unwrap();
-        let theirs = x
-            .permute((0, 3, 1, 2))
-            .unwrap()
-            .conv2d(&w, pad, 1, 1, 1)
-            .unwrap()
-            .broadcast_add(&b.reshape((1, 4, 1, 1)).unwrap())
-            .unwrap()
-            .permute((0, 2, 3, 1))
-            .unwrap();
-        let diff = (ours - theirs)
-            .unwrap()
-            .abs()
-            .unwrap()
-            .max_all()
-            .unwrap()
-            .to_scalar::<f32>()
-            .unwrap();
-        assert!(diff < 1e-4, "pad {pad}: max diff {diff}");
+    for (seed, (cin, cout, width)) in [(3, 4, 11), (3, 8, 23), (1, 16, 14), (16, 16, 17)]
+        .into_iter()
+        .enumerate()
+    {
+        let seed = seed as u64 * 3;
+        let x = random(&[2, 9, width, cin], seed + 1);
+        let w = random(&[cout, cin, 5, 5], seed + 2);
+        let b = random(&[cout], seed + 3);
+        for pad in [0usize, 2] {
+            let ours = conv2d_nhwc(&x, &w, &b, (pad, pad)).unwrap();
+            let theirs = x
+                .permute((0, 3, 1, 2))
+                .unwrap()
+                .conv2d(&w, pad, 1, 1, 1)
+                .unwrap()
+                .broadcast_add(&b.reshape((1, cout, 1, 1)).unwrap())
+                .unwrap()
+                .permute((0, 2, 3, 1))
+                .unwrap();
+            let diff = max_abs_diff(&ours, &theirs);
+            assert!(diff < 1e-4, "{cin}→{cout}, pad {pad}: max diff {diff}");
+            let fused = conv2d_relu_nhwc(&x, &w, &b, (pad, pad)).unwrap();
+            let diff = max_abs_diff(&fused, &theirs.relu().unwrap());
+            assert!(
+                diff < 1e-4,
+                "{cin}→{cout} + ReLU, pad {pad}: max diff {diff}"
+            );
+        }
     }
 }
 

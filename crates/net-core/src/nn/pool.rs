@@ -8,20 +8,11 @@
 use candle_core::{bail, CpuStorage, CustomOp1, CustomOp2, Layout, Shape, Tensor};
 use rayon::prelude::*;
 
+use super::f32_contiguous;
+
 /// The forward op: `(b, h, w, c)` → `(b, h/2, w/2, c)`.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct MaxPool2x2;
-
-fn f32_contiguous<'a>(storage: &'a CpuStorage, layout: &Layout) -> candle_core::Result<&'a [f32]> {
-    let data = match storage {
-        CpuStorage::F32(v) => v.as_slice(),
-        _ => bail!("only f32 tensors are supported"),
-    };
-    match layout.contiguous_offsets() {
-        Some((start, end)) => Ok(&data[start..end]),
-        None => bail!("the op needs a contiguous input"),
-    }
-}
 
 /// Index (0..4, order top-left, top-right, bottom-left, bottom-right) of the first maximum of
 /// the 2×2 cell at output `(y, x)`, channel `ch`.
@@ -40,12 +31,27 @@ fn argmax(src: &[f32], w: usize, c: usize, y: usize, x: usize, ch: usize) -> (us
 
 /// Pools the `ho × w/2` cells of `img` (`h × w × c`, channels last; rows beyond `2·ho` unused)
 /// into `dst` (`ho × w/2 × c`).
+/// Same values as [`argmax`] per channel (the first maximum; a NaN first value stays), read
+/// as four contiguous channel runs per cell so that the channel loop vectorises.
 fn pool_image(img: &[f32], w: usize, c: usize, ho: usize, dst: &mut [f32]) {
-    let wo = w / 2;
-    for y in 0..ho {
-        for x in 0..wo {
-            for ch in 0..c {
-                dst[(y * wo + x) * c + ch] = argmax(img, w, c, y, x, ch).1;
+    let (wo, row) = (w / 2, w * c);
+    if wo == 0 || c == 0 {
+        return;
+    }
+    for (y, dst_row) in dst.chunks_exact_mut(wo * c).take(ho).enumerate() {
+        let top = &img[2 * y * row..][..row];
+        let bottom = &img[(2 * y + 1) * row..][..row];
+        for (x, cell) in dst_row.chunks_exact_mut(c).enumerate() {
+            let (p, q) = top[2 * x * c..][..2 * c].split_at(c);
+            let (r, s) = bottom[2 * x * c..][..2 * c].split_at(c);
+            for ((((o, &a), &b), &d), &e) in cell.iter_mut().zip(p).zip(q).zip(r).zip(s) {
+                let mut m = a;
+                for v in [b, d, e] {
+                    if v > m {
+                        m = v;
+                    }
+                }
+                *o = m;
             }
         }
     }

@@ -1,0 +1,180 @@
+//! The forward pass of [`super::Conv2dNhwc`] without im2col or GEMM packing, for unpadded
+//! convolutions with 8 or 16 output channels on x86-64 CPUs with AVX2 and FMA (checked at
+//! run time; everything else takes the im2col + GEMM path).
+//!
+//! In NHWC the `kw` taps of one kernel row read one contiguous run of `kw · c` input values,
+//! so an output position's sum is `kh` dot products over runs of the input, each against a
+//! `(kw · c) × cout` block of the kernel matrix. A block of `R` neighbouring output positions
+//! keeps its `R × cout` sums in registers while those runs stream past: no copy of the input
+//! is made (the GEMM path copies every value `kh · kw` times into patches and again into
+//! its packed panels, half of the bowing CNN's time).
+//!
+//! Sums are accumulated in the order of the kernel matrix's rows with fused multiply-adds,
+//! so results differ from the GEMM path's in the last bits only.
+
+use rayon::prelude::*;
+
+use super::conv::Geometry;
+
+/// Output rows (batch × height) per parallel task.
+const ROWS_PER_TASK: usize = 8;
+
+/// Runs the direct convolution into `out` (`rows × cout`, bias added, ReLU when `relu`)
+/// when this CPU and these shapes allow it; returns `false` (and leaves `out` alone) when
+/// they do not, so the caller takes the GEMM path.
+pub(super) fn try_forward(
+    g: &Geometry,
+    x: &[f32],
+    kmat: &[f32],
+    bias: &[f32],
+    relu: bool,
+    out: &mut [f32],
+) -> bool {
+    if g.pad_h != 0 || g.pad_w != 0 || !has_avx2_fma() {
+        return false;
+    }
+    match g.cout {
+        16 => run::<16, 4>(g, x, kmat, bias, relu, out),
+        8 => run::<8, 8>(g, x, kmat, bias, relu, out),
+        _ => return false,
+    }
+    true
+}
+
+#[cfg(target_arch = "x86_64")]
+fn has_avx2_fma() -> bool {
+    std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
+}
+
+#[cfg(not(target_arch = "x86_64"))]
+fn has_avx2_fma() -> bool {
+    false
+}
+
+/// Splits the output into tasks of [`ROWS_PER_TASK`] output rows and runs them in parallel.
+fn run<const N: usize, const R: usize>(
+    g: &Geometry,
+    x: &[f32],
+    kmat: &[f32],
+    bias: &[f32],
+    relu: bool,
+    out: &mut [f32],
+) {
+    let row_len = g.wo * N;
+    out.par_chunks_mut(ROWS_PER_TASK * row_len)
+        .enumerate()
+        .for_each(|(task, chunk)| {
+            for (k, out_row) in chunk.chunks_exact_mut(row_len).enumerate() {
+                rows_avx2::<N, R>(g, x, kmat, bias, relu, task * ROWS_PER_TASK + k, out_row);
+            }
+        });
+}
+
+#[cfg(target_arch = "x86_64")]
+fn rows_avx2<const N: usize, const R: usize>(
+    g: &Geometry,
+    x: &[f32],
+    kmat: &[f32],
+    bias: &[f32],
+    relu: bool,
+    row: usize,
+    out_row: &mut [f32],
+) {
+    // SAFETY: `try_forward` only gets here after `has_avx2_fma` saw both features on this
+    // CPU, which is all `output_row_avx2` requires.
+    #[allow(unsafe_code)]
+    unsafe {
+        output_row_avx2::<N, R>(g, x, kmat, bias, relu, row, out_row)
+    }
+}
+
+#[cfg(not(target_arch = "x86_64"))]
+fn rows_avx2<const N: usize, const R: usize>(
+    g: &Geometry,
+    x: &[f32],
+    kmat: &[f32],
+    bias: &[f32],
+    relu: bool,
+    row: usize,
+    out_row: &mut [f32],
+) {
+    output_row::<N, R>(g, x, kmat, bias, relu, row, out_row)
+}
+
+/// [`output_row`] compiled for AVX2 + FMA (the compiler vectorises the channel loops).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+fn output_row_avx2<const N: usize, const R: usize>(
+    g: &Geometry,
+    x: &[f32],
+    kmat: &[f32],
+    bias: &[f32],
+    relu: bool,
+    row: usize,
+    out_row: &mut [f32],
+) {
+    output_row::<N, R>(g, x, kmat, bias, relu, row, out_row)
+}
+
+/// One output row (`row = image · ho + y`): blocks of `R` positions, then single ones.
+#[inline(always)]
+fn output_row<const N: usize, const R: usize>(
+    g: &Geometry,
+    x: &[f32],
+    kmat: &[f32],
+    bias: &[f32],
+    relu: bool,
+    row: usize,
+    out_row: &mut [f32],
+) {
+    let (image, y) = (row / g.ho, row % g.ho);
+    let Ok(bias) = <&[f32; N]>::try_from(bias) else {
+        return;
+    };
+    let mut xo = 0;
+    while xo + R <= g.wo {
+        block::<N, R>(g, x, kmat, bias, relu, (image, y, xo), out_row);
+        xo += R;
+    }
+    while xo < g.wo {
+        block::<N, 1>(g, x, kmat, bias, relu, (image, y, xo), out_row);
+        xo += 1;
+    }
+}
+
+/// Output positions `xo .. xo + R` of row `y` of `image`, all `N` channels.
+#[inline(always)]
+fn block<const N: usize, const R: usize>(
+    g: &Geometry,
+    x: &[f32],
+    kmat: &[f32],
+    bias: &[f32; N],
+    relu: bool,
+    (image, y, xo): (usize, usize, usize),
+    out_row: &mut [f32],
+) {
+    let run = g.kw * g.c;
+    let mut acc = [*bias; R];
+    for dy in 0..g.kh {
+        let start = ((image * g.h + y + dy) * g.w + xo) * g.c;
+        let inputs: [&[f32]; R] = std::array::from_fn(|r| &x[start + r * g.c..][..run]);
+        let kernel_rows = &kmat[dy * run * N..(dy + 1) * run * N];
+        for (q, k) in kernel_rows.chunks_exact(N).enumerate() {
+            let Ok(k) = <&[f32; N]>::try_from(k) else {
+                continue;
+            };
+            for (a, input) in acc.iter_mut().zip(&inputs) {
+                let v = input[q];
+                for (s, w) in a.iter_mut().zip(k) {
+                    *s = v.mul_add(*w, *s);
+                }
+            }
+        }
+    }
+    for (r, a) in acc.iter().enumerate() {
+        let dst = &mut out_row[(xo + r) * N..(xo + r + 1) * N];
+        for (d, s) in dst.iter_mut().zip(a) {
+            *d = if relu { s.max(0.0) } else { *s };
+        }
+    }
+}
