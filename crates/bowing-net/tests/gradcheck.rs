@@ -45,14 +45,20 @@ fn random_net(seed: u64) -> (VarMap, BowingNet) {
 }
 
 /// Every forward path of the op: 4 output channels (im2col + GEMM), 8 and 16 unpadded (the
-/// direct kernel on CPUs with AVX2 + FMA: blocks of positions plus a tail), padded (GEMM),
-/// one input channel (the CNN's first layer).
+/// direct kernel on CPUs with AVX2 + FMA: whole blocks of positions, an overlapping last
+/// block, rows narrower than a block), padded (GEMM), one input channel (the CNN's first
+/// layer).
 #[test]
 fn conv_matches_candle_forward() {
-    for (seed, (cin, cout, width)) in [(3, 4, 11), (3, 8, 23), (1, 16, 14), (16, 16, 17)]
-        .into_iter()
-        .enumerate()
-    {
+    let shapes = [
+        (3, 4, 11),
+        (3, 8, 23),
+        (1, 16, 14),
+        (16, 16, 17),
+        (2, 8, 9),
+        (2, 16, 7),
+    ];
+    for (seed, (cin, cout, width)) in shapes.into_iter().enumerate() {
         let seed = seed as u64 * 3;
         let x = random(&[2, 9, width, cin], seed + 1);
         let w = random(&[cout, cin, 5, 5], seed + 2);

@@ -33,9 +33,11 @@ pub(super) fn try_forward(
     if g.pad_h != 0 || g.pad_w != 0 || !has_avx2_fma() {
         return false;
     }
+    // Positions per block, chosen by timing on this VM (AMD EPYC, AVX2): 5 × 16 channels
+    // and 10 × 8 keep 10 independent sums in flight; 6 × 16 spills and was twice as slow.
     match g.cout {
-        16 => run::<16, 4>(g, x, kmat, bias, relu, out),
-        8 => run::<8, 8>(g, x, kmat, bias, relu, out),
+        16 => run::<16, 5>(g, x, kmat, bias, relu, out),
+        8 => run::<8, 10>(g, x, kmat, bias, relu, out),
         _ => return false,
     }
     true
@@ -135,6 +137,13 @@ fn output_row<const N: usize, const R: usize>(
     while xo + R <= g.wo {
         block::<N, R>(g, x, kmat, bias, relu, (image, y, xo), out_row);
         xo += R;
+    }
+    if xo < g.wo && g.wo >= R {
+        // The last R positions again, overlapping the previous block: an overlapped
+        // position gets the same sum in the same order, and a lone position's one chain
+        // of dependent multiply-adds would cost as much as a whole block.
+        block::<N, R>(g, x, kmat, bias, relu, (image, y, g.wo - R), out_row);
+        return;
     }
     while xo < g.wo {
         block::<N, 1>(g, x, kmat, bias, relu, (image, y, xo), out_row);
