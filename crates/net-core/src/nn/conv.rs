@@ -2,9 +2,10 @@
 //! (im2col) tile by tile into a small per-thread buffer and multiplied with the kernel matrix
 //! (`ndarray`'s `general_mat_mul`, i.e. matrixmultiply's sgemm) straight into the output;
 //! tiles run in parallel. Unpadded convolutions with 8 or 16 output channels skip both copies
-//! on CPUs with AVX2 + FMA ([`super::conv_direct`], twice as fast for the bowing CNN). The backward pass works image by image in parallel: the kernel
-//! gradient from the same patches, and the input gradient by scattering the patch gradients
-//! back (col2im) into that image's part of the input gradient.
+//! on x86-64 CPUs with AVX2 + FMA (`conv_direct`, twice as fast for the bowing CNN). The
+//! backward pass works image by image in parallel: the kernel gradient from the same
+//! patches, and the input gradient by scattering the patch gradients back (col2im) into that
+//! image's part of the input gradient.
 //!
 //! The op can apply a ReLU to its output (its backward then masks the incoming gradient by
 //! the output's sign, saving candle's three element-wise passes), and skips the input
@@ -210,11 +211,11 @@ impl Conv2dNhwc {
     ) -> candle_core::Result<Vec<f32>> {
         let (patch, cout) = (g.patch(), g.cout);
         let mut out = vec![0.0f32; g.rows() * cout];
-        let direct = kmat
-            .as_slice()
-            .map(|k| super::conv_direct::try_forward(g, x, k, bias, self.relu, &mut out));
-        if direct == Some(true) {
-            return Ok(out);
+        #[cfg(target_arch = "x86_64")]
+        if let Some(k) = kmat.as_slice() {
+            if super::conv_direct::try_forward(g, x, k, bias, self.relu, &mut out) {
+                return Ok(out);
+            }
         }
         out.par_chunks_mut(TILE_ROWS * cout)
             .enumerate()

@@ -6,6 +6,7 @@
 //! net-core.)
 
 mod conv;
+#[cfg(target_arch = "x86_64")]
 mod conv_direct;
 mod dropout;
 mod pool;
