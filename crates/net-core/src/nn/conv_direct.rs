@@ -15,7 +15,7 @@
 
 use rayon::prelude::*;
 
-use super::conv::Geometry;
+use super::geometry::Geometry;
 
 /// Output rows (batch × height) per parallel task.
 const ROWS_PER_TASK: usize = 8;

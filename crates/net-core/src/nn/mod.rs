@@ -9,7 +9,9 @@ mod conv;
 #[cfg(target_arch = "x86_64")]
 mod conv_direct;
 mod dropout;
+mod geometry;
 mod pool;
+mod storage;
 mod tcn;
 
 pub use conv::{conv2d_nhwc, conv2d_relu_nhwc, Conv2dNhwc};
@@ -19,21 +21,6 @@ pub use pool::{
     PoolPhasesBackward,
 };
 pub use tcn::{Tcn, TcnConfig};
-
-/// The values of a contiguous f32 CPU storage (the custom ops' inputs), without copying.
-fn f32_contiguous<'a>(
-    storage: &'a candle_core::CpuStorage,
-    layout: &candle_core::Layout,
-) -> candle_core::Result<&'a [f32]> {
-    let data = match storage {
-        candle_core::CpuStorage::F32(v) => v.as_slice(),
-        _ => candle_core::bail!("only f32 tensors are supported"),
-    };
-    match layout.contiguous_offsets() {
-        Some((start, end)) => Ok(&data[start..end]),
-        None => candle_core::bail!("the op needs a contiguous input"),
-    }
-}
 
 /// Cross-entropy of two-class `logits` `(n, 2)` against `targets` (0/1, `n`) with
 /// per-example `weights` `(n)`: `Σ wᵢ·CEᵢ / Σ wᵢ` (0 when all weights are 0).

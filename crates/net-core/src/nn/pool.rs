@@ -8,7 +8,7 @@
 use candle_core::{bail, CpuStorage, CustomOp1, CustomOp2, Layout, Shape, Tensor};
 use rayon::prelude::*;
 
-use super::f32_contiguous;
+use super::storage::f32_contiguous;
 
 /// The forward op: `(b, h, w, c)` → `(b, h/2, w/2, c)`.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
