@@ -40,6 +40,7 @@ use violin_train::bowing_data::{
     read_manifest,
 };
 use violin_train::evaluate::Tally;
+use violin_train::example_args::flag_value;
 use violin_train::stroke_directions::{
     direction_accuracy, direction_case, pooled_accuracy, tune_direction_decoder, DirectionCase,
 };
@@ -57,23 +58,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let corpus = PathBuf::from(corpus);
     let started = std::time::Instant::now();
     let mut data = load_dataset(&corpus, &|_, _| {})?;
-    // The value after a `--name` flag.
-    let flag = |name: &str| {
-        args.iter()
-            .position(|a| a == name)
-            .and_then(|i| args.get(i + 1))
-            .cloned()
-    };
-    let val_violin = flag("--val-violin");
+    let flag = |name: &str| flag_value(&args, name);
+    let val_violin = flag("--val-violin")?;
     if let Some(violin) = &val_violin {
         let n = move_violin_to_validation(&corpus, violin, &mut data)?;
         eprintln!("validation violin {violin}: {n} training items moved to validation");
     }
-    if let Some(extra) = flag("--extra-val") {
+    if let Some(extra) = flag("--extra-val")? {
         let n = add_validation_violin(std::path::Path::new(&extra), &mut data)?;
         eprintln!("{extra}: {n} validation items added to validation");
     }
-    if let Some(extra) = flag("--extra-train") {
+    if let Some(extra) = flag("--extra-train")? {
         let n = add_training_violin(std::path::Path::new(&extra), &mut data)?;
         eprintln!("{extra}: {n} training items added to training");
     }
@@ -95,11 +90,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 .get(2)
                 .filter(|a| !a.starts_with("--"))
                 .map_or(Ok(20), |e| e.parse())?,
-            init_from: flag("--init").map(PathBuf::from),
-            learning_rate: flag("--lr").map_or(Ok(defaults.learning_rate), |v| v.parse())?,
-            seed: flag("--seed").map_or(Ok(defaults.seed), |v| v.parse())?,
-            timbre_eq_db: flag("--eq-db").map_or(Ok(defaults.timbre_eq_db), |v| v.parse())?,
-            direction_weight: flag("--direction-weight")
+            init_from: flag("--init")?.map(PathBuf::from),
+            learning_rate: flag("--lr")?.map_or(Ok(defaults.learning_rate), |v| v.parse())?,
+            seed: flag("--seed")?.map_or(Ok(defaults.seed), |v| v.parse())?,
+            timbre_eq_db: flag("--eq-db")?.map_or(Ok(defaults.timbre_eq_db), |v| v.parse())?,
+            direction_weight: flag("--direction-weight")?
                 .map_or(Ok(defaults.direction_weight), |v| v.parse())?,
             ..defaults
         };
@@ -138,7 +133,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         &data.test,
         &weights,
         write_ensemble,
-        val_violin.as_deref(),
+        val_violin,
     )
 }
 

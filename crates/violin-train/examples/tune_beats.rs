@@ -26,6 +26,7 @@ use beat_track::eval::{beat_prf, trim_beats};
 use corpus::manifest::Split;
 use violin_train::beat_data::read_first_column;
 use violin_train::bowing_data::read_manifest;
+use violin_train::example_args::flag_value;
 use violin_train::feature_cache::cached_mel30;
 
 struct Item {
@@ -39,26 +40,14 @@ struct Item {
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let all: Vec<String> = std::env::args().skip(1).collect();
-    let music = all
-        .iter()
-        .position(|a| a == "--music")
-        .and_then(|i| all.get(i + 1))
-        .cloned();
-    if let Some(m) = music
-        .as_deref()
-        .filter(|m| !["etude", "repertoire"].contains(m))
-    {
+    let music = flag_value(&all, "--music")?;
+    if let Some(m) = music.filter(|m| !["etude", "repertoire"].contains(m)) {
         return Err(format!("--music {m}: give etude or repertoire").into());
     }
     let prior_only = all.iter().any(|a| a == "--prior-only");
     let score_only = all.iter().any(|a| a == "--score-only");
-    let shifts: Vec<i64> = match all.iter().position(|a| a == "--band-shifts") {
-        Some(i) => all
-            .get(i + 1)
-            .ok_or("--band-shifts needs a list such as -2,0,2")?
-            .split(',')
-            .map(str::parse)
-            .collect::<Result<_, _>>()?,
+    let shifts: Vec<i64> = match flag_value(&all, "--band-shifts")? {
+        Some(list) => list.split(',').map(str::parse).collect::<Result<_, _>>()?,
         None => vec![0],
     };
     let mut args = all
@@ -80,7 +69,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let manifest = read_manifest(&dir)?;
     let mut items = Vec::new();
     for it in manifest.items.iter().filter(|it| it.split == Split::Val) {
-        match music.as_deref() {
+        match music {
             Some("etude") if !it.is_etude() => continue,
             Some("repertoire") if it.is_etude() => continue,
             _ => {}

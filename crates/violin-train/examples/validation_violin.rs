@@ -31,6 +31,7 @@ use bowing_net::metrics::{decoder_f1, tune_decoder};
 use bowing_net::stroke::{timbre, StrokeDetector};
 use bowing_net::{BowChangeDetector, Decoder};
 use violin_train::bowing_data::load_dataset;
+use violin_train::example_args::flag_value;
 
 /// The validation F1 a re-tuned decoder must gain to replace a stored one.
 const MIN_DECODER_GAIN_F1: f64 = 0.005;
@@ -45,12 +46,9 @@ type Probs = Vec<Vec<f32>>;
 type Averaging = Option<(usize, f32, u64)>;
 
 fn parse_averaging(args: &[String]) -> Result<Averaging, Box<dyn std::error::Error>> {
-    let Some(i) = args.iter().position(|a| a == "--timbre-averaging") else {
+    let Some(spec) = flag_value(args, "--timbre-averaging")? else {
         return Ok(None);
     };
-    let spec = args
-        .get(i + 1)
-        .ok_or("--timbre-averaging needs K:DEPTH_DB:SEED")?;
     let parts: Vec<&str> = spec.split(':').collect();
     let [k, depth, seed] = parts.as_slice() else {
         return Err(format!("--timbre-averaging {spec}: expected K:DEPTH_DB:SEED").into());
@@ -145,14 +143,7 @@ fn f1s(
 
 /// The path after `flag`, if the flag is given.
 fn flag_path(args: &[String], flag: &str) -> Result<Option<PathBuf>, String> {
-    args.iter()
-        .position(|a| a == flag)
-        .map(|i| {
-            args.get(i + 1)
-                .map(PathBuf::from)
-                .ok_or(format!("{flag} needs a weights file"))
-        })
-        .transpose()
+    Ok(flag_value(args, flag)?.map(PathBuf::from))
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

@@ -12,7 +12,8 @@
 //!   audio, for repeated training runs;
 //! * [`evaluate`]: the engine of `violin-skeleton evaluate`, every SPEC §10 measure of the
 //!   whole pipeline on a labelled folder;
-//! * examples: the research and fitting scripts (`cargo run -p violin-train --example …`).
+//! * examples: the research and fitting scripts (`cargo run -p violin-train --example …`),
+//!   their options read by [`example_args`].
 //!
 //! The training loops themselves live in each network crate behind its `train` feature
 //! (`bowing_net::train`, `emotion_net::train`, `gru_baseline::train`); this crate turns that
@@ -33,6 +34,7 @@ pub mod bowing_data;
 pub mod emotion_data;
 mod error;
 pub mod evaluate;
+pub mod example_args;
 pub mod feature_cache;
 pub mod gru_data;
 pub mod item_score;

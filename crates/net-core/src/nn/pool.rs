@@ -31,6 +31,7 @@ fn argmax(src: &[f32], w: usize, c: usize, y: usize, x: usize, ch: usize) -> (us
 
 /// Pools the `ho × w/2` cells of `img` (`h × w × c`, channels last; rows beyond `2·ho` unused)
 /// into `dst` (`ho × w/2 × c`).
+///
 /// Same values as [`argmax`] per channel (the first maximum; a NaN first value stays), read
 /// as four contiguous channel runs per cell so that the channel loop vectorises.
 fn pool_image(img: &[f32], w: usize, c: usize, ho: usize, dst: &mut [f32]) {
