@@ -57,8 +57,9 @@ pub struct CorpusArgs {
     pub repertoire: Option<PathBuf>,
     /// With `many`: write only the validation items, rendered with this violin instead
     /// of the drawn one — a GUS patch (.pat, e.g. Debian freepats'
-    /// /usr/share/midi/freepats/Tone_000/040_Violin.pat) or an SF2 with GM program 40 — so
-    /// that choices can be checked on a violin training never hears.
+    /// /usr/share/midi/freepats/Tone_000/040_Violin.pat), a WebAudioFont instrument (.js,
+    /// e.g. webaudiofontdata's sound/0400_GeneralUserGS_sf2_file.js) or an SF2 with GM
+    /// program 40 — so that choices can be checked on a violin training never hears.
     #[arg(long)]
     pub validation_violin: Option<PathBuf>,
     /// With `many`: write only the training items, rendered with this violin instead of

@@ -146,8 +146,13 @@ impl RecastViolin {
         let is_patch = path
             .extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("pat"));
+        let is_webaudiofont = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("js"));
         let renderer = if path.is_dir() {
             SoundFontRenderer::from_sample_dir(path)?
+        } else if is_webaudiofont {
+            SoundFontRenderer::from_webaudiofont_file(path)?
         } else if is_patch {
             SoundFontRenderer::from_gus_patch_file(path)?
         } else {

@@ -92,7 +92,17 @@ pub const DEFAULT_ANALYSIS_RATE_HZ: u32 = 22_050;
 /// # Ok::<(), dsp_mel::DspError>(())
 /// ```
 pub fn load_audio(path: impl AsRef<Path>) -> Result<Audio> {
-    let mut reader = AudioReader::open(path)?;
+    read_to_end(AudioReader::open(path)?)
+}
+
+/// [`load_audio`] for a file held in memory (see [`AudioReader::from_bytes`]: `label` names
+/// it in errors, `extension` helps the format probe).
+pub fn load_audio_bytes(bytes: Vec<u8>, label: &Path, extension: Option<&str>) -> Result<Audio> {
+    read_to_end(AudioReader::from_bytes(bytes, label, extension)?)
+}
+
+/// Every sample `reader` has left, mono.
+fn read_to_end(mut reader: AudioReader) -> Result<Audio> {
     let mut samples = Vec::with_capacity(
         reader
             .total_samples_hint()

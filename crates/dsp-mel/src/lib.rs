@@ -32,7 +32,7 @@ mod stream;
 pub mod fft;
 pub mod filters;
 
-pub use audio::{load_audio, AnalysisRate, Audio, DEFAULT_ANALYSIS_RATE_HZ};
+pub use audio::{load_audio, load_audio_bytes, AnalysisRate, Audio, DEFAULT_ANALYSIS_RATE_HZ};
 pub use config::{Hop, MelConfig, MelNorm, MelScale, Window};
 pub use db::{power_to_db, DbConfig, DbRef};
 pub use error::{DspError, Result};

@@ -86,13 +86,39 @@ impl AudioReader {
             path: path.into(),
             source: e,
         })?;
+        let extension = path.extension().and_then(|e| e.to_str());
+        Self::from_source(path, Box::new(file), extension)
+    }
+
+    /// A reader of audio held in memory (an MP3 inside a container, say); `label` names it
+    /// in errors as a path would, `extension` (`"mp3"`, `"wav"`, …) helps the format probe.
+    /// Empty bytes are [`DspError::EmptyFile`].
+    ///
+    /// ```
+    /// let err = dsp_mel::AudioReader::from_bytes(Vec::new(), "zone 1".as_ref(), Some("mp3"));
+    /// assert!(matches!(err, Err(dsp_mel::DspError::EmptyFile { .. })));
+    /// ```
+    pub fn from_bytes(bytes: Vec<u8>, label: &Path, extension: Option<&str>) -> Result<Self> {
+        if bytes.is_empty() {
+            return Err(DspError::EmptyFile { path: label.into() });
+        }
+        Self::from_source(label, Box::new(std::io::Cursor::new(bytes)), extension)
+    }
+
+    /// Probes `source` and opens its first audio track (shared by [`Self::open`] and
+    /// [`Self::from_bytes`]).
+    fn from_source(
+        path: &Path,
+        source: Box<dyn symphonia::core::io::MediaSource>,
+        extension: Option<&str>,
+    ) -> Result<Self> {
         let unsupported = |reason: String| DspError::Unsupported {
             path: path.into(),
             reason,
         };
-        let mss = MediaSourceStream::new(Box::new(file), Default::default());
+        let mss = MediaSourceStream::new(source, Default::default());
         let mut hint = Hint::new();
-        if let Some(ext) = path.extension().and_then(|e| e.to_str()) {
+        if let Some(ext) = extension {
             hint.with_extension(ext);
         }
         // Codec libraries can panic on a damaged stream: that is a corrupt file, not a crash.

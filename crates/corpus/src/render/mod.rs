@@ -1,6 +1,6 @@
 //! Audio renderers: the built-in bowed-string synthesizer, the digital waveguide and
-//! SoundFonts (and the sample sets read into one: GUS patches, folders of per-note
-//! recordings), behind one [`Renderer`] trait.
+//! SoundFonts (and the sample sets read into one: GUS patches, WebAudioFont instruments,
+//! folders of per-note recordings), behind one [`Renderer`] trait.
 
 mod biquad;
 mod bowed;
@@ -12,6 +12,7 @@ mod sf2_writer;
 mod soundfont;
 mod waveguide;
 mod waveguide_string;
+mod webaudiofont;
 
 pub use biquad::Biquad;
 pub use bowed::{BowedConfig, BowedStringSynth};
@@ -22,3 +23,4 @@ pub use sample_dir::{note_key, sample_dir_samples, MAX_SAMPLE_S};
 pub use sf2_writer::{tiny_violin_sf2, write_sf2, Sf2Sample};
 pub use soundfont::SoundFontRenderer;
 pub use waveguide::{WaveguideConfig, WaveguideViolin};
+pub use webaudiofont::webaudiofont_samples;
