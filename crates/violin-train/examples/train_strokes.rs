@@ -8,11 +8,11 @@
 //! cargo run --release -p violin-train --example train_strokes -- CORPUS OUT.safetensors EPOCHS --init W.safetensors --lr 5e-4 --seed 2 [--direction-weight 2] [--eq-db 6]
 //! cargo run --release -p violin-train --example train_strokes -- CORPUS --eval W.safetensors [--write-ensemble]
 //! cargo run --release -p violin-train --example train_strokes -- CORPUS OUT.safetensors EPOCHS --val-violin waveguide
-//! cargo run --release -p violin-train --example train_strokes -- CORPUS OUT.safetensors EPOCHS --init W --eq-db 6 --extra-val VAL_VIOLIN_CORPUS [--extra-train TRAIN_VIOLIN_CORPUS]
+//! cargo run --release -p violin-train --example train_strokes -- CORPUS OUT.safetensors EPOCHS --init W --eq-db 6 --extra-val VAL_VIOLIN_CORPUS [--extra-train TRAIN_VIOLIN_CORPUS …]
 //! ```
 //!
-//! `--extra-train DIR` adds the training items of a training-violin corpus (`violin-skeleton
-//! corpus … --training-violin V`) to training.
+//! `--extra-train DIR` (repeatable) adds the training items of a training-violin corpus
+//! (`violin-skeleton corpus … --training-violin V`) to training.
 //! `--val-violin NAME` moves the training items of one violin source into validation, so the
 //! network never hears that violin and validation measures what a new violin costs.
 //! `--extra-val DIR` adds the validation items of a validation-violin corpus (`violin-skeleton
@@ -40,7 +40,7 @@ use violin_train::bowing_data::{
     read_manifest,
 };
 use violin_train::evaluate::Tally;
-use violin_train::example_args::flag_value;
+use violin_train::example_args::{flag_value, flag_values};
 use violin_train::stroke_directions::{
     direction_accuracy, direction_case, pooled_accuracy, tune_direction_decoder, DirectionCase,
 };
@@ -68,8 +68,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let n = add_validation_violin(std::path::Path::new(&extra), &mut data)?;
         eprintln!("{extra}: {n} validation items added to validation");
     }
-    if let Some(extra) = flag("--extra-train")? {
-        let n = add_training_violin(std::path::Path::new(&extra), &mut data)?;
+    for extra in flag_values(&args, "--extra-train")? {
+        let n = add_training_violin(std::path::Path::new(extra), &mut data)?;
         eprintln!("{extra}: {n} training items added to training");
     }
     eprintln!(

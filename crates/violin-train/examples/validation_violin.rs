@@ -6,7 +6,7 @@
 //! re-tuned on both validation sets (bow-change F1 at ±2 frames, events pooled).
 //!
 //! With `--write`, the first weights file's ensemble decoder is replaced by the re-tuned one
-//! when that gains at least 0.005 F1 on both sets together (the rule `train_strokes` applies
+//! when that gains at least 0.005 F1 on all sets pooled (the rule `train_strokes` applies
 //! to a stored decoder). No test item is read.
 //!
 //! With `--timbre-averaging K:DEPTH_DB:SEED`, the stroke network's change probability is the
@@ -22,7 +22,11 @@
 //! `--write` too, the re-tuned decoder is stored whatever its gain (the stored one was tuned
 //! for another CNN), to be shipped with `C`.
 //!
-//! `cargo run --release -p violin-train --example validation_violin -- CORPUS VAL_VIOLIN_CORPUS W.safetensors [W2 …] [--write] [--timbre-averaging K:DEPTH_DB:SEED] [--partner P.safetensors] [--cnn C.safetensors]`
+//! Several validation-violin corpora may be given (folders; weights are files): each is
+//! scored on its own, all are pooled, and the mean of the sets' F1s is printed too; the
+//! re-tuned decoder is tuned on all of them pooled.
+//!
+//! `cargo run --release -p violin-train --example validation_violin -- CORPUS VAL_VIOLIN_CORPUS [VAL_VIOLIN_CORPUS2 …] W.safetensors [W2 …] [--write] [--timbre-averaging K:DEPTH_DB:SEED] [--partner P.safetensors] [--cnn C.safetensors]`
 
 use std::path::{Path, PathBuf};
 
@@ -122,23 +126,19 @@ fn probabilities(
     Ok((alone, ensemble))
 }
 
-fn f1s(
-    d: &Decoder,
-    p: &(Probs, Probs),
-    q: &(Probs, Probs),
-    heard: &[Recording],
-    unheard: &[Recording],
-    ensemble: bool,
-) -> [f64; 3] {
+/// F1 of decoder `d` on the training violins' items, on each unheard violin's, and on all
+/// of them pooled; `p[0]` belongs to `sets[0]` (the training violins), and so on.
+fn f1s(d: &Decoder, p: &[(Probs, Probs)], sets: &[Vec<Recording>], ensemble: bool) -> Vec<f64> {
     let pick = |x: &(Probs, Probs)| if ensemble { x.1.clone() } else { x.0.clone() };
-    let (a, b) = (pick(p), pick(q));
-    let all_p: Probs = a.iter().chain(&b).cloned().collect();
-    let all_r: Vec<Recording> = heard.iter().chain(unheard).cloned().collect();
-    [
-        decoder_f1(&a, heard, d),
-        decoder_f1(&b, unheard, d),
-        decoder_f1(&all_p, &all_r, d),
-    ]
+    let mut out: Vec<f64> = p
+        .iter()
+        .zip(sets)
+        .map(|(x, recs)| decoder_f1(&pick(x), recs, d))
+        .collect();
+    let all_p: Probs = p.iter().flat_map(pick).collect();
+    let all_r: Vec<Recording> = sets.iter().flatten().cloned().collect();
+    out.push(decoder_f1(&all_p, &all_r, d));
+    out
 }
 
 /// The path after `flag`, if the flag is given.
@@ -148,7 +148,7 @@ fn flag_path(args: &[String], flag: &str) -> Result<Option<PathBuf>, String> {
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let usage = "usage: validation_violin CORPUS VAL_VIOLIN_CORPUS W.safetensors [W2 …] [--write] [--timbre-averaging K:DEPTH_DB:SEED] [--partner P.safetensors] [--cnn C.safetensors]";
+    let usage = "usage: validation_violin CORPUS VAL_VIOLIN_CORPUS [VAL_VIOLIN_CORPUS2 …] W.safetensors [W2 …] [--write] [--timbre-averaging K:DEPTH_DB:SEED] [--partner P.safetensors] [--cnn C.safetensors]";
     let write = args.iter().any(|a| a == "--write");
     let averaging = parse_averaging(&args)?;
     let paths: Vec<PathBuf> = args
@@ -163,20 +163,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .map(|(_, a)| a)
         .map(PathBuf::from)
         .collect();
-    let [corpus, other, weights @ ..] = paths.as_slice() else {
-        return Err(usage.into());
-    };
-    if weights.is_empty() {
+    // Corpora are folders, weights files: CORPUS, then one or more validation-violin corpora.
+    let (corpora, weights): (Vec<PathBuf>, Vec<PathBuf>) =
+        paths.into_iter().partition(|p| p.is_dir());
+    if corpora.len() < 2 || weights.is_empty() {
         return Err(usage.into());
     }
-    let heard = validation_items(corpus)?;
-    let unheard = validation_items(other)?;
-    eprintln!(
-        "{} validation items on the training violins, {} in {}",
-        heard.len(),
-        unheard.len(),
-        other.display()
-    );
+    let mut sets = Vec::with_capacity(corpora.len());
+    for dir in &corpora {
+        let items = validation_items(dir)?;
+        eprintln!("{}: {} validation items", dir.display(), items.len());
+        sets.push(items);
+    }
     let partner_path = flag_path(&args, "--partner")?;
     let cnn_path = flag_path(&args, "--cnn")?;
     if write && partner_path.is_some() {
@@ -191,42 +189,52 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             None => Partner::Cnn(BowChangeDetector::pretrained()?),
         },
     };
-    println!("| weights | decoder | training violins | unheard violin | both |");
-    println!("|---|---|---|---|---|");
+    let names: Vec<String> = corpora[1..]
+        .iter()
+        .map(|c| {
+            c.file_name()
+                .map_or_else(|| c.display().to_string(), |n| n.to_string_lossy().into())
+        })
+        .collect();
+    println!(
+        "| weights | decoder | training violins | {} | all pooled | mean of sets |",
+        names.join(" | ")
+    );
+    println!("|---|---|---|{}---|---|", "---|".repeat(names.len()));
     for (k, w) in weights.iter().enumerate() {
         let mut net = StrokeDetector::load(w)?;
-        let p = probabilities(&partner, &net, &heard, averaging)?;
-        let q = probabilities(&partner, &net, &unheard, averaging)?;
-        let row = |what: String, f: [f64; 3]| {
+        let p = sets
+            .iter()
+            .map(|recs| probabilities(&partner, &net, recs, averaging))
+            .collect::<Result<Vec<_>, _>>()?;
+        let row = |what: String, f: Vec<f64>| {
+            let per_set = &f[..f.len() - 1];
+            let mean = per_set.iter().sum::<f64>() / per_set.len() as f64;
+            let cells: Vec<String> = f.iter().map(|v| format!("{v:.4}")).collect();
             println!(
-                "| {} | {what} | {:.4} | {:.4} | {:.4} |",
+                "| {} | {what} | {} | {mean:.4} |",
                 w.display(),
-                f[0],
-                f[1],
-                f[2]
+                cells.join(" | ")
             );
         };
         let own = net.decoder();
         row(
             format!("network alone, {own:?}"),
-            f1s(&own, &p, &q, &heard, &unheard, false),
+            f1s(&own, &p, &sets, false),
         );
-        let all_p: Probs = p.1.iter().chain(&q.1).cloned().collect();
-        let all_r: Vec<Recording> = heard.iter().chain(&unheard).cloned().collect();
+        let all_p: Probs = p.iter().flat_map(|x| x.1.clone()).collect();
+        let all_r: Vec<Recording> = sets.iter().flatten().cloned().collect();
         let (tuned, tuned_f1) = tune_decoder(&all_p, &all_r);
         let stored = match partner {
             Partner::Cnn(_) => net.ensemble_decoder(),
             Partner::Strokes(_) => None,
         };
         if let Some(s) = stored {
-            row(
-                format!("ensemble, stored {s:?}"),
-                f1s(&s, &p, &q, &heard, &unheard, true),
-            );
+            row(format!("ensemble, stored {s:?}"), f1s(&s, &p, &sets, true));
         }
         row(
-            format!("ensemble, re-tuned on both {tuned:?}"),
-            f1s(&tuned, &p, &q, &heard, &unheard, true),
+            format!("ensemble, re-tuned on all sets {tuned:?}"),
+            f1s(&tuned, &p, &sets, true),
         );
         if write && k == 0 {
             let stored_f1 = stored.map_or(f64::NEG_INFINITY, |s| decoder_f1(&all_p, &all_r, &s));

@@ -18,3 +18,22 @@ pub fn flag_value<'a>(args: &'a [String], name: &str) -> Result<Option<&'a str>,
         },
     }
 }
+
+/// The values after every `--name` in `args`, in order (for options that may be repeated);
+/// an error naming the flag when one has nothing after it.
+///
+/// ```
+/// let args: Vec<String> = ["c", "--extra", "a", "--extra", "b"].map(String::from).into();
+/// assert_eq!(violin_train::example_args::flag_values(&args, "--extra"), Ok(vec!["a", "b"]));
+/// assert_eq!(violin_train::example_args::flag_values(&args, "--lr"), Ok(vec![]));
+/// ```
+pub fn flag_values<'a>(args: &'a [String], name: &str) -> Result<Vec<&'a str>, String> {
+    args.iter()
+        .enumerate()
+        .filter(|(_, a)| *a == name)
+        .map(|(i, _)| match args.get(i + 1) {
+            Some(v) if !v.starts_with("--") => Ok(v.as_str()),
+            _ => Err(format!("{name} needs a value")),
+        })
+        .collect()
+}
