@@ -32,6 +32,12 @@ pub fn note_key(stem: &str) -> Option<u8> {
         .filter(|k| *k <= 127)
 }
 
+/// The stretch of a recording of `len` samples looped to hold a note (55 % to 90 % of it:
+/// past the attack, before the release); shared with unlooped WebAudioFont zones.
+pub(crate) fn steady_middle(len: usize) -> (usize, usize) {
+    (len * 55 / 100, len * 90 / 100)
+}
+
 /// The first rising zero crossing at or after `from` (or `from` itself when there is none).
 fn rising_zero(data: &[i16], from: usize) -> usize {
     (from.max(1)..data.len())
@@ -55,10 +61,9 @@ fn sample_of(audio: &[f32], rate_hz: u32, root_key: u8) -> Result<Sf2Sample, Ren
     }
     let gain = 0.89 * 32_767.0 / peak;
     let data: Vec<i16> = audio.iter().map(|v| (v * gain) as i16).collect();
-    let loop_start = rising_zero(&data, keep * 55 / 100);
-    let loop_end = rising_zero(&data, keep * 90 / 100)
-        .max(loop_start + 1)
-        .min(keep);
+    let (middle_start, middle_end) = steady_middle(keep);
+    let loop_start = rising_zero(&data, middle_start);
+    let loop_end = rising_zero(&data, middle_end).max(loop_start + 1).min(keep);
     Ok(Sf2Sample {
         data,
         rate_hz,

@@ -14,6 +14,7 @@ use std::path::Path;
 use base64::Engine as _;
 
 use crate::render::renderer::RenderError;
+use crate::render::sample_dir::steady_middle;
 use crate::render::sf2_writer::{write_sf2, Sf2Sample};
 use crate::render::SoundFontRenderer;
 
@@ -208,7 +209,7 @@ fn zone_sample(zone: &RawZone, index: usize) -> Result<Sf2Sample, RenderError> {
     let (start, end) = match (at("loopStart"), at("loopEnd")) {
         (Some(s), Some(e)) if e > s + 16 => (s, e),
         // No loop: hold the sound's steady middle, as a folder of recordings is.
-        _ => (len * 55 / 100, len * 90 / 100),
+        _ => steady_middle(len),
     };
     let quarter = (end - start) / 4;
     let loop_start = rising_zero_near(&data, start, start, start + quarter);
