@@ -48,7 +48,7 @@ pub mod stroke;
 pub mod train;
 
 pub use choice::BowingModel;
-pub use decode::Decoder;
+pub use decode::{Decoder, RunSplit};
 pub use detector::BowChangeDetector;
 pub use error::{NetError, Result};
 pub use model::{BowingNet, Config};

@@ -232,6 +232,38 @@ pub fn tune_decoder(probs: &[Vec<f32>], val: &[crate::data::Recording]) -> (crat
             let d = crate::Decoder {
                 threshold: 0.2 + 0.05 * k as f32,
                 min_spacing_frames: spacing,
+                run_split: None,
+            };
+            let f1 = decoder_f1(probs, val, &d);
+            if f1 > best.1 {
+                best = (d, f1);
+            }
+        }
+    }
+    best
+}
+
+/// `base` with the [`crate::RunSplit`] (frames per change 2.5–4, offset −1 to 1 frame) that
+/// scores the best F1 at ±2 frames, and that F1; `base` itself (and its F1) when no split
+/// beats it.
+pub fn tune_run_split(
+    probs: &[Vec<f32>],
+    val: &[crate::data::Recording],
+    base: crate::Decoder,
+) -> (crate::Decoder, f64) {
+    let plain = crate::Decoder {
+        run_split: None,
+        ..base
+    };
+    let mut best = (plain, decoder_f1(probs, val, &plain));
+    for frames_per_change in [2.5f32, 3.0, 3.5, 4.0] {
+        for offset_frames in [-1.0f32, 0.0, 1.0] {
+            let d = crate::Decoder {
+                run_split: Some(crate::RunSplit {
+                    frames_per_change,
+                    offset_frames,
+                }),
+                ..base
             };
             let f1 = decoder_f1(probs, val, &d);
             if f1 > best.1 {

@@ -58,6 +58,7 @@ fn peak_level(p: &[f32], q: f64) -> f32 {
     let all_peaks = Decoder {
         threshold: 0.2,
         min_spacing_frames: 1,
+        run_split: None,
     };
     let mut peaks: Vec<f32> = all_peaks.pick(p).into_iter().map(|i| p[i]).collect();
     if peaks.is_empty() {
@@ -128,6 +129,7 @@ fn decoders() -> impl Iterator<Item = Decoder> {
         (6..=16).map(move |k| Decoder {
             threshold: 0.05 * k as f32,
             min_spacing_frames: spacing,
+            run_split: None,
         })
     })
 }

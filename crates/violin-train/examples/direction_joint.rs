@@ -11,8 +11,11 @@
 //!    bars, the rules and the network in the same Viterbi as `DirectionDecoder`; against the
 //!    shipped decoding over the same decoder grid.
 //!
+//! With `--oracle`, the shipped decoding is scored with the labelled changes and/or the
+//! labelled beats and downbeats in place of the detected ones.
+//!
 //! ```text
-//! cargo run --release -p violin-train --example direction_joint -- CORPUS [--net-only]
+//! cargo run --release -p violin-train --example direction_joint -- CORPUS [--net-only | --oracle]
 //! ```
 //!
 //! On corpus-hook (validation works): 1 gives 0.524, 2 gives 0.543 (neither hears the
@@ -26,6 +29,7 @@ use bowing_net::stroke::decode::changes_inside;
 use bowing_net::stroke::direction::{beat_places, mean_log_odds, DirectionDecoder};
 use bowing_net::{BowingModel, Decoder};
 use performance::{heard_bow_directions, strokes_of, BowDirection};
+use violin_train::beat_data::read_first_column;
 use violin_train::bowing_data::{load_dataset, read_manifest};
 use violin_train::evaluate::{direction_tally, Tally};
 use violin_train::stroke_directions::{direction_case, DirectionCase};
@@ -40,6 +44,9 @@ struct Case {
     truth_changes: Vec<usize>,
     etude: bool,
     level_db: Vec<f32>,
+    /// Labelled beats and downbeats, seconds (for `--oracle`).
+    truth_beats_s: Vec<f64>,
+    truth_downbeats_s: Vec<f64>,
 }
 
 /// Frame level, dB: log of the summed mel power.
@@ -126,6 +133,7 @@ fn joint(
         &Decoder {
             threshold: low,
             min_spacing_frames: 4,
+            run_split: None,
         }
         .pick_fractional(probs),
         &stretches,
@@ -176,6 +184,37 @@ fn joint(
     (out_t, out_d)
 }
 
+/// Direction accuracy of the shipped decoder when the labelled bow changes and/or the
+/// labelled beats and downbeats replace the detected ones: where the errors come from.
+fn oracle_table(all: &[&Case], works: &[&Case], d: DirectionDecoder) {
+    for (label, true_changes, true_bars) in [
+        ("detected changes, detected bars", false, false),
+        ("detected changes, labelled bars", false, true),
+        ("labelled changes, detected bars", true, false),
+        ("labelled changes, labelled bars", true, true),
+    ] {
+        let mut line = format!("{label}:");
+        for (set_name, set) in [("all val", all), ("val works", works)] {
+            let mut tally = Tally::default();
+            for c in set.iter() {
+                let mut dc = c.c.clone();
+                if true_changes {
+                    dc.bow_changes_s = c.c.truth.iter().map(|s| s.start_s).collect();
+                }
+                if true_bars {
+                    dc.beats_s = c.truth_beats_s.clone();
+                    dc.downbeats_s = c.truth_downbeats_s.clone();
+                }
+                let (t, dirs) = shipped_decoding(&dc, d);
+                let predicted = strokes_of(&t, &dirs, &dc.notes);
+                tally.add(&direction_tally(&dc.truth, &predicted));
+            }
+            line.push_str(&format!(" {set_name} {:.3}", tally.share()));
+        }
+        println!("{line}");
+    }
+}
+
 fn score(cases: &[&Case], f: &dyn Fn(&DirectionCase) -> Strokes) -> (f64, f64) {
     let mut tally = Tally::default();
     let mut counts = Counts::default();
@@ -209,6 +248,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             truth_changes: r.changes.clone(),
             etude: etudes.contains(r.name.as_str()),
             level_db: level_of(&r.mel_db),
+            truth_beats_s: read_first_column(&corpus.join(&r.name).join("beats.txt"))?,
+            truth_downbeats_s: read_first_column(&corpus.join(&r.name).join("downbeats.txt"))?,
         });
     }
     eprintln!("shipped decoder {shipped:?}");
@@ -272,6 +313,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             plain.share(),
             saw.share()
         );
+    }
+    if std::env::args().any(|a| a == "--oracle") {
+        oracle_table(&all, &works, shipped);
+        return Ok(());
     }
     if std::env::args().any(|a| a == "--net-only") {
         return Ok(());

@@ -26,12 +26,17 @@
 //! scored on its own, all are pooled, and the mean of the sets' F1s is printed too; the
 //! re-tuned decoder is tuned on all of them pooled.
 //!
-//! `cargo run --release -p violin-train --example validation_violin -- CORPUS VAL_VIOLIN_CORPUS [VAL_VIOLIN_CORPUS2 …] W.safetensors [W2 …] [--write] [--timbre-averaging K:DEPTH_DB:SEED] [--partner P.safetensors] [--cnn C.safetensors]`
+//! `cargo run --release -p violin-train --example validation_violin -- CORPUS VAL_VIOLIN_CORPUS [VAL_VIOLIN_CORPUS2 …] W.safetensors [W2 …] [--write] [--timbre-averaging K:DEPTH_DB:SEED] [--partner P.safetensors] [--cnn C.safetensors] [--run-split | --write-run-split]`
+//!
+//! With `--run-split`, the stored ensemble decoder is also scored with the
+//! [`bowing_net::RunSplit`] tuned on all sets pooled (its threshold and spacing kept);
+//! `--write-run-split` stores that decoder in the first weights file, whatever its gain (the
+//! caller's rule decides whether the file is kept).
 
 use std::path::{Path, PathBuf};
 
 use bowing_net::data::Recording;
-use bowing_net::metrics::{decoder_f1, tune_decoder};
+use bowing_net::metrics::{decoder_f1, tune_decoder, tune_run_split};
 use bowing_net::stroke::{timbre, StrokeDetector};
 use bowing_net::{BowChangeDetector, Decoder};
 use violin_train::bowing_data::load_dataset;
@@ -148,8 +153,13 @@ fn flag_path(args: &[String], flag: &str) -> Result<Option<PathBuf>, String> {
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let usage = "usage: validation_violin CORPUS VAL_VIOLIN_CORPUS [VAL_VIOLIN_CORPUS2 …] W.safetensors [W2 …] [--write] [--timbre-averaging K:DEPTH_DB:SEED] [--partner P.safetensors] [--cnn C.safetensors]";
+    let usage = "usage: validation_violin CORPUS VAL_VIOLIN_CORPUS [VAL_VIOLIN_CORPUS2 …] W.safetensors [W2 …] [--write] [--timbre-averaging K:DEPTH_DB:SEED] [--partner P.safetensors] [--cnn C.safetensors] [--run-split | --write-run-split]";
     let write = args.iter().any(|a| a == "--write");
+    let write_run_split = args.iter().any(|a| a == "--write-run-split");
+    let run_split = write_run_split || args.iter().any(|a| a == "--run-split");
+    if write && write_run_split {
+        return Err("--write and --write-run-split each store a decoder: give one".into());
+    }
     let averaging = parse_averaging(&args)?;
     let paths: Vec<PathBuf> = args
         .iter()
@@ -231,6 +241,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         };
         if let Some(s) = stored {
             row(format!("ensemble, stored {s:?}"), f1s(&s, &p, &sets, true));
+            if run_split {
+                let (split, _) = tune_run_split(&all_p, &all_r, s);
+                row(
+                    format!("ensemble, stored + run split tuned on all sets {split:?}"),
+                    f1s(&split, &p, &sets, true),
+                );
+                if write_run_split && k == 0 {
+                    net.set_ensemble_decoder(Some(split));
+                    net.save(w)?;
+                    eprintln!("{}: ensemble decoder {split:?} written", w.display());
+                }
+            }
         }
         row(
             format!("ensemble, re-tuned on all sets {tuned:?}"),
