@@ -157,6 +157,11 @@ fn the_direction_decoder_travels_with_the_weights_and_uses_the_down_output() {
         stay_probability: 0.1,
         downbeat_weight: 1.0,
         beat_weight: 0.5,
+        long_runs: Some(bowing_net::stroke::direction::LongRunStay {
+            min_frames: 6,
+            threshold: 0.65,
+            stay_probability: 0.2,
+        }),
     };
     d.set_direction_decoder(Some(decoder));
     let back = StrokeDetector::from_bytes(&d.to_bytes().unwrap(), Path::new("w")).unwrap();
@@ -174,6 +179,19 @@ fn the_direction_decoder_travels_with_the_weights_and_uses_the_down_output() {
         err.contains("stay_probability") && err.contains("w.safetensors"),
         "{err}"
     );
+    let mut bad_long = detector();
+    bad_long.set_direction_decoder(Some(DirectionDecoder {
+        long_runs: Some(bowing_net::stroke::direction::LongRunStay {
+            min_frames: 6,
+            threshold: 0.65,
+            stay_probability: 1.5,
+        }),
+        ..decoder
+    }));
+    let err = StrokeDetector::from_bytes(&bad_long.to_bytes().unwrap(), Path::new("w"))
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("long_runs.stay_probability"), "{err}");
     // Two one-second strokes; the network hears the first as an up-bow, the second as a
     // down-bow, against the rules' down-up.
     let notes = [Note::new(0.0, 1.0, 67), Note::new(1.0, 2.0, 69)];

@@ -7,9 +7,10 @@
 //! stroke's midpoint must have its direction.
 
 use bowing_net::data::Recording;
-use bowing_net::stroke::direction::DirectionDecoder;
+use bowing_net::stroke::direction::{DirectionDecoder, LongRunStay};
 use bowing_net::BowingModel;
 use performance::{strokes_of, BowStroke, Note};
+use rayon::prelude::*;
 
 use crate::evaluate::{direction_tally, Tally};
 use crate::Result;
@@ -84,26 +85,45 @@ pub fn pooled_accuracy(cases: &[DirectionCase], decoder: Option<DirectionDecoder
 /// grid of network, rule, downbeat and beat weights and stay probabilities, and its
 /// accuracy; the rules alone (`None`) when nothing beats them.
 pub fn tune_direction_decoder(cases: &[DirectionCase]) -> (Option<DirectionDecoder>, f64) {
-    let mut best = (None, pooled_accuracy(cases, None));
-    for net_weight in [0.0f32, 0.25, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0] {
-        for rule_weight in [0.0f32, 0.25, 0.5, 1.0] {
-            for stay_probability in [0.02f32, 0.05, 0.1, 0.2] {
-                for downbeat_weight in [0.0f32, 1.0, 2.0, 3.0, 4.0] {
-                    for beat_weight in [0.0f32, 0.3, 0.6, 1.0] {
-                        let d = DirectionDecoder {
-                            net_weight,
-                            rule_weight,
-                            stay_probability,
-                            downbeat_weight,
-                            beat_weight,
-                        };
-                        let acc = pooled_accuracy(cases, Some(d));
-                        if acc > best.1 {
-                            best = (Some(d), acc);
+    tune_direction_decoder_with(cases, &[None])
+}
+
+/// [`tune_direction_decoder`] with each of `long_runs` tried too (`None`: one stay
+/// probability for every change).
+pub fn tune_direction_decoder_with(
+    cases: &[DirectionCase],
+    long_runs: &[Option<LongRunStay>],
+) -> (Option<DirectionDecoder>, f64) {
+    let mut grid = Vec::new();
+    for &long in long_runs {
+        for net_weight in [0.0f32, 0.25, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0] {
+            for rule_weight in [0.0f32, 0.25, 0.5, 1.0] {
+                for stay_probability in [0.02f32, 0.05, 0.1, 0.2] {
+                    for downbeat_weight in [0.0f32, 1.0, 2.0, 3.0, 4.0] {
+                        for beat_weight in [0.0f32, 0.3, 0.6, 1.0] {
+                            grid.push(DirectionDecoder {
+                                net_weight,
+                                rule_weight,
+                                stay_probability,
+                                downbeat_weight,
+                                beat_weight,
+                                long_runs: long,
+                            });
                         }
                     }
                 }
             }
+        }
+    }
+    // Scored in parallel; the first best in grid order wins, as a sequential scan would.
+    let scores: Vec<f64> = grid
+        .par_iter()
+        .map(|d| pooled_accuracy(cases, Some(*d)))
+        .collect();
+    let mut best = (None, pooled_accuracy(cases, None));
+    for (d, acc) in grid.into_iter().zip(scores) {
+        if acc > best.1 {
+            best = (Some(d), acc);
         }
     }
     best

@@ -58,7 +58,8 @@ impl StrokeAnalysis {
     /// heard strokes (`performance::heard_bow_directions` over `notes` and `downbeats_s`),
     /// or, when the weights carry a direction decoder ([`crate::stroke::direction`]), that
     /// decoder over the rules, the network's down-bow output and where each stroke starts
-    /// among `beats_s` and `downbeats_s`.
+    /// among `beats_s` and `downbeats_s` (and, with its `long_runs`, which changes lie in
+    /// long runs of `frames.change`).
     pub fn directions(
         &self,
         bow_changes_s: &[f64],
@@ -76,7 +77,14 @@ impl StrokeAnalysis {
             .map(|s| mean_log_odds(&self.frames.down, frame(s.start_s), frame(s.end_s)))
             .collect();
         let places = beat_places(bow_changes_s, beats_s, downbeats_s);
-        decoder.decode(&evidence, &rules, &places)
+        let flips = match decoder.long_runs {
+            Some(long) => {
+                let frames: Vec<usize> = bow_changes_s.iter().map(|&t| frame(t)).collect();
+                long.flips(&self.frames.change, &frames, decoder.default_flip())
+            }
+            None => Vec::new(),
+        };
+        decoder.decode_with_flips(&evidence, &rules, &places, &flips)
     }
 
     /// Sets each stroke's string from the network where it has string output.

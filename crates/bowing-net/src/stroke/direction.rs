@@ -22,6 +22,8 @@
 use performance::BowDirection;
 use serde::{Deserialize, Serialize};
 
+pub use super::long_runs::LongRunStay;
+
 /// How the direction sequence is decoded (module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct DirectionDecoder {
@@ -38,6 +40,11 @@ pub struct DirectionDecoder {
     /// Log-bonus for a down-bow on a stroke that starts on another beat.
     #[serde(default)]
     pub beat_weight: f32,
+    /// Changes inside long runs of change probability keep the direction with their own
+    /// probability (`None`: every change uses `stay_probability`). Absent from files
+    /// written before it existed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub long_runs: Option<LongRunStay>,
 }
 
 /// Where a stroke starts in the bar, as heard: on a downbeat, on another beat, or between
@@ -88,6 +95,7 @@ impl Default for DirectionDecoder {
             stay_probability: 0.05,
             downbeat_weight: 0.0,
             beat_weight: 0.0,
+            long_runs: None,
         }
     }
 }
@@ -145,6 +153,20 @@ impl DirectionDecoder {
                 self.stay_probability
             ));
         }
+        if let Some(long) = self.long_runs {
+            if !(long.stay_probability > 0.0 && long.stay_probability < 1.0) {
+                return Err(format!(
+                    "direction decoder: long_runs.stay_probability is {}, not strictly between 0 and 1",
+                    long.stay_probability
+                ));
+            }
+            if !long.threshold.is_finite() {
+                return Err(format!(
+                    "direction decoder: long_runs.threshold is {}, not a finite number",
+                    long.threshold
+                ));
+            }
+        }
         Ok(())
     }
 
@@ -169,6 +191,12 @@ impl DirectionDecoder {
         places: &[BeatPlace],
     ) -> Vec<BowDirection> {
         self.decode_with_flips(evidence, rules, places, &[])
+    }
+
+    /// The `(keep, flip)` log-probabilities of a change outside long runs.
+    pub fn default_flip(&self) -> (f32, f32) {
+        let stay = self.stay_probability.clamp(1e-6, 1.0 - 1e-6);
+        (stay.ln(), (1.0 - stay).ln())
     }
 
     /// [`DirectionDecoder::decode`] with the log-probabilities `(keep, flip)` of the
@@ -196,8 +224,7 @@ impl DirectionDecoder {
         if n == 0 {
             return Vec::new();
         }
-        let stay = self.stay_probability.clamp(1e-6, 1.0 - 1e-6);
-        let default_flip = (stay.ln(), (1.0 - stay).ln());
+        let default_flip = self.default_flip();
         let emit = |k: usize, dir: BowDirection| -> f32 {
             let odds = if evidence[k].is_finite() {
                 evidence[k]
@@ -291,6 +318,7 @@ mod tests {
             stay_probability: 0.05,
             downbeat_weight: 4.0,
             beat_weight: 0.0,
+            long_runs: None,
         };
         // Both downbeats down costs one kept direction (a missed change) between them.
         let places = [Between, Downbeat, Between, Between, Downbeat];
@@ -308,6 +336,56 @@ mod tests {
             plain.decode(&[0.0; 3], &[Down, Up, Down], &places),
             vec![Down, Up, Down]
         );
+    }
+
+    #[test]
+    fn a_long_run_is_where_a_lost_change_goes_back() {
+        use BeatPlace::{Between, Downbeat};
+        // Four strokes; the changes at frames 4 and 7 were split from one long run of change
+        // probability. The downbeats say strokes 0 and 3 are down-bows: three flips between
+        // them cannot be right, so one change must keep the direction.
+        let change = [
+            0.9, 0.1, 0.1, 0.7, 0.8, 0.8, 0.8, 0.8, 0.8, 0.7, 0.1, 0.9, 0.1,
+        ];
+        let frames = [0usize, 4, 7, 11];
+        let places = [Downbeat, Between, Between, Downbeat];
+        let long = LongRunStay {
+            min_frames: 5,
+            threshold: 0.65,
+            stay_probability: 0.3,
+        };
+        let d = DirectionDecoder {
+            net_weight: 0.0,
+            rule_weight: 0.0,
+            stay_probability: 0.05,
+            downbeat_weight: 4.0,
+            beat_weight: 0.0,
+            long_runs: Some(long),
+        };
+        let flips = long.flips(&change, &frames, d.default_flip());
+        assert_eq!(flips[0], d.default_flip());
+        assert_eq!(flips[3], d.default_flip());
+        assert!(flips[1..3].iter().all(|f| f.0 > d.default_flip().0));
+        let dirs = d.decode_with_flips(&[0.0; 4], &[Down; 4], &places, &flips);
+        assert_eq!((dirs[0], dirs[3]), (Down, Down));
+        // The kept direction falls inside the run, not at the lone change at frame 11.
+        let kept: Vec<usize> = (1..4).filter(|&k| dirs[k] == dirs[k - 1]).collect();
+        assert_eq!(kept.len(), 1);
+        assert!(kept[0] < 3, "{dirs:?}");
+        // Invalid settings are refused by validate.
+        let bad = DirectionDecoder {
+            long_runs: Some(LongRunStay {
+                stay_probability: 0.0,
+                ..long
+            }),
+            ..d
+        };
+        assert!(bad
+            .validate()
+            .unwrap_err()
+            .contains("long_runs.stay_probability"));
+        assert!(!long.contains(&[], 0));
+        assert!(!long.contains(&[f32::NAN; 8], 3));
     }
 
     #[test]

@@ -15,6 +15,7 @@ pub mod decode;
 mod detector;
 pub mod direction;
 mod input;
+mod long_runs;
 #[cfg(feature = "train")]
 pub mod metrics;
 mod model;
