@@ -26,12 +26,13 @@
 //! scored on its own, all are pooled, and the mean of the sets' F1s is printed too; the
 //! re-tuned decoder is tuned on all of them pooled.
 //!
-//! `cargo run --release -p violin-train --example validation_violin -- CORPUS VAL_VIOLIN_CORPUS [VAL_VIOLIN_CORPUS2 …] W.safetensors [W2 …] [--write] [--timbre-averaging K:DEPTH_DB:SEED] [--partner P.safetensors] [--cnn C.safetensors] [--run-split | --write-run-split]`
+//! `cargo run --release -p violin-train --example validation_violin -- CORPUS VAL_VIOLIN_CORPUS [VAL_VIOLIN_CORPUS2 …] W.safetensors [W2 …] [--write] [--timbre-averaging K:DEPTH_DB:SEED] [--partner P.safetensors] [--cnn C.safetensors] [--run-split | --write-run-split | --write-alone-run-split]`
 //!
-//! With `--run-split`, the stored ensemble decoder is also scored with the
-//! [`bowing_net::RunSplit`] tuned on all sets pooled (its threshold and spacing kept);
-//! `--write-run-split` stores that decoder in the first weights file, whatever its gain (the
-//! caller's rule decides whether the file is kept).
+//! With `--run-split`, the network's own decoder and the stored ensemble decoder are also
+//! scored with the [`bowing_net::RunSplit`] tuned on all sets pooled (their threshold and
+//! spacing kept); `--write-run-split` (ensemble) and `--write-alone-run-split` (the network
+//! alone) store that decoder in the first weights file, whatever its gain (the caller's rule
+//! decides whether the file is kept).
 
 use std::path::{Path, PathBuf};
 
@@ -153,10 +154,12 @@ fn flag_path(args: &[String], flag: &str) -> Result<Option<PathBuf>, String> {
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let usage = "usage: validation_violin CORPUS VAL_VIOLIN_CORPUS [VAL_VIOLIN_CORPUS2 …] W.safetensors [W2 …] [--write] [--timbre-averaging K:DEPTH_DB:SEED] [--partner P.safetensors] [--cnn C.safetensors] [--run-split | --write-run-split]";
+    let usage = "usage: validation_violin CORPUS VAL_VIOLIN_CORPUS [VAL_VIOLIN_CORPUS2 …] W.safetensors [W2 …] [--write] [--timbre-averaging K:DEPTH_DB:SEED] [--partner P.safetensors] [--cnn C.safetensors] [--run-split | --write-run-split | --write-alone-run-split]";
     let write = args.iter().any(|a| a == "--write");
     let write_run_split = args.iter().any(|a| a == "--write-run-split");
-    let run_split = write_run_split || args.iter().any(|a| a == "--run-split");
+    let write_alone_run_split = args.iter().any(|a| a == "--write-alone-run-split");
+    let run_split =
+        write_run_split || write_alone_run_split || args.iter().any(|a| a == "--run-split");
     if write && write_run_split {
         return Err("--write and --write-run-split each store a decoder: give one".into());
     }
@@ -232,6 +235,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             format!("network alone, {own:?}"),
             f1s(&own, &p, &sets, false),
         );
+        if run_split {
+            let alone_p: Probs = p.iter().flat_map(|x| x.0.clone()).collect();
+            let alone_r: Vec<Recording> = sets.iter().flatten().cloned().collect();
+            let (split, _) = tune_run_split(&alone_p, &alone_r, own);
+            row(
+                format!("network alone + run split tuned on all sets {split:?}"),
+                f1s(&split, &p, &sets, false),
+            );
+            if write_alone_run_split && k == 0 {
+                net.set_decoder(split);
+                net.save(w)?;
+                eprintln!("{}: network decoder {split:?} written", w.display());
+            }
+        }
         let all_p: Probs = p.iter().flat_map(|x| x.1.clone()).collect();
         let all_r: Vec<Recording> = sets.iter().flatten().cloned().collect();
         let (tuned, tuned_f1) = tune_decoder(&all_p, &all_r);
