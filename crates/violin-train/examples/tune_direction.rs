@@ -1,14 +1,15 @@
 //! Re-tunes the direction decoder of a stroke-network weights file for the changes its
 //! ensemble decoder now finds, as `train_strokes` tunes it after training: the analysis's
-//! model (the shipped CNN and these weights averaged) on the corpus's validation items, the
-//! grid of [`tune_direction_decoder`]. No test item is read. With `--write`, the tuned
+//! model (the shipped CNN and these weights averaged) on the validation items of one or more
+//! corpora (e.g. a corpus and its validation-violin renders, pooled), the grid of
+//! [`tune_direction_decoder`]. No test item is read. With `--write`, the tuned
 //! decoder is stored in the weights file. With `--long-runs`, the grid also tries a stay
 //! probability of its own (0.05, 0.1, 0.2, 0.35) for changes inside runs of at least 5, 6
 //! or 8 frames of change probability at or above 0.65, the ensemble decoder's threshold
 //! (`bowing_net::stroke::direction::LongRunStay`).
 //!
 //! ```text
-//! cargo run --release -p violin-train --example tune_direction -- CORPUS W.safetensors [--long-runs] [--write]
+//! cargo run --release -p violin-train --example tune_direction -- CORPUS [CORPUS2 …] W.safetensors [--long-runs] [--write]
 //! ```
 
 use std::path::PathBuf;
@@ -23,22 +24,28 @@ use violin_train::stroke_directions::{
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let usage = "usage: tune_direction CORPUS W.safetensors [--long-runs] [--write]";
-    let positional: Vec<&String> = args.iter().filter(|a| !a.starts_with("--")).collect();
-    let [corpus, weights] = positional.as_slice() else {
+    let usage = "usage: tune_direction CORPUS [CORPUS2 …] W.safetensors [--long-runs] [--write]";
+    // Corpora are folders, the weights a file.
+    let (corpora, weights): (Vec<PathBuf>, Vec<PathBuf>) = args
+        .iter()
+        .filter(|a| !a.starts_with("--"))
+        .map(PathBuf::from)
+        .partition(|p| p.is_dir());
+    let ([weights], false) = (weights.as_slice(), corpora.is_empty()) else {
         return Err(usage.into());
     };
-    let (corpus, weights) = (PathBuf::from(corpus), PathBuf::from(weights));
+    let weights = weights.clone();
     let write = args.iter().any(|a| a == "--write");
-    let val = load_dataset(&corpus, &|_, _| {})?.val;
     let strokes = StrokeDetector::load(&weights)?;
     let stored = strokes.direction_decoder();
     let model = BowingModel::Ensemble(Box::new(BowChangeDetector::pretrained()?), strokes);
     let pipeline = violin_skeleton::Pipeline::default();
-    let mut cases = Vec::with_capacity(val.len());
-    for r in &val {
-        let audio = dsp_mel::load_audio(corpus::layout::item_audio(&corpus.join(&r.name)))?;
-        cases.push(direction_case(r, &audio, &model, &pipeline)?);
+    let mut cases = Vec::new();
+    for dir in &corpora {
+        for r in &load_dataset(dir, &|_, _| {})?.val {
+            let audio = dsp_mel::load_audio(corpus::layout::item_audio(&dir.join(&r.name)))?;
+            cases.push(direction_case(r, &audio, &model, &pipeline)?);
+        }
     }
     let (tuned, accuracy) = if args.iter().any(|a| a == "--long-runs") {
         let mut options = vec![None];
