@@ -51,11 +51,12 @@ pub struct RunSplit {
 }
 
 impl RunSplit {
-    /// Changes a run of `run_frames` frames holds.
+    /// Changes a run of `run_frames` frames holds: at least one, at most one per frame
+    /// (whatever settings a weights file carries).
     pub fn changes_in(&self, run_frames: usize) -> usize {
         let n = (run_frames as f32 + self.offset_frames) / self.frames_per_change.max(0.5);
         if n.is_finite() {
-            (n.floor() as usize).max(1)
+            (n.floor() as usize).clamp(1, run_frames.max(1))
         } else {
             1
         }
@@ -221,7 +222,12 @@ mod tests {
         };
         let counts: Vec<usize> = (1..=12).map(|l| s.changes_in(l)).collect();
         assert_eq!(counts, vec![1, 1, 1, 1, 2, 2, 2, 3, 3, 3, 4, 4]);
-        // Degenerate settings still give at least one change, never a panic.
+        // Degenerate settings still give at least one change and at most one per frame.
+        let huge = RunSplit {
+            frames_per_change: 1.0,
+            offset_frames: 1e30,
+        };
+        assert_eq!(huge.changes_in(7), 7);
         let odd = RunSplit {
             frames_per_change: f32::NAN,
             offset_frames: -100.0,
