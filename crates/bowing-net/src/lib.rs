@@ -10,7 +10,7 @@
 //!   `BowingNet::new(cfg, vb)`, `forward_t(&x, train)`) and its phase-tree evaluation that
 //!   classifies every frame of a recording with shared convolutions;
 //! * [`infer`]: stride-1 frame probabilities; [`decode`]: threshold + peak picking with a
-//!   minimum spacing; [`metrics`]: P/R/F1 with a frame tolerance;
+//!   minimum spacing, and the splitting of merged runs of fast changes ([`RunSplit`]);
 //! * with the `train` feature: `data` (labelled recordings in memory; `violin-train` reads
 //!   them from the corpus or URMP), `train` (the training loop: Adam, class-balanced loss,
 //!   early stopping, checkpoints and resume), `batch` (training sequences, frame targets and
