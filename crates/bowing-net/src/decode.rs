@@ -68,10 +68,10 @@ impl RunSplit {
     pub fn apply(&self, probs: &[f32], threshold: f32, picks: Vec<f64>) -> Vec<f64> {
         let mut out = Vec::with_capacity(picks.len());
         let mut next_pick = 0;
+        // A NaN frame is outside every run (it must not stall the scan).
+        let high = |p: f32| p >= threshold;
         let mut i = 0;
         while i < probs.len() {
-            // A NaN frame is outside every run (it must not stall the scan).
-            let high = |p: f32| p >= threshold;
             if !high(probs[i]) {
                 i += 1;
                 continue;

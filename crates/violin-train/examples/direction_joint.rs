@@ -156,7 +156,7 @@ fn joint(
         .map(|s| mean_log_odds(&case.bowed.frames.down, frame(s.start_s), frame(s.end_s)))
         .collect();
     let places = beat_places(&times, &case.beats_s, &case.downbeats_s);
-    let stay = d.stay_probability;
+    let confirmed_flip = d.default_flip();
     let flip_logp: Vec<(f32, f32)> = bounds
         .iter()
         .map(|&(_, optional, p)| {
@@ -166,7 +166,7 @@ fn joint(
                 let flip = 1.0 / (1.0 + (-z).exp());
                 ((1.0 - flip).max(1e-6).ln(), flip.max(1e-6).ln())
             } else {
-                (stay.ln(), (1.0 - stay).ln())
+                confirmed_flip
             }
         })
         .collect();

@@ -190,9 +190,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     let partner_path = flag_path(&args, "--partner")?;
     let cnn_path = flag_path(&args, "--cnn")?;
-    if write && partner_path.is_some() {
+    if (write || write_run_split) && partner_path.is_some() {
         return Err(
-            "--write stores the CNN ensemble's decoder; it cannot be used with --partner".into(),
+            "--write and --write-run-split store the CNN ensemble's decoder; they cannot be used with --partner".into(),
         );
     }
     let partner = match &partner_path {
@@ -235,10 +235,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             format!("network alone, {own:?}"),
             f1s(&own, &p, &sets, false),
         );
+        let all_r: Vec<Recording> = sets.iter().flatten().cloned().collect();
         if run_split {
             let alone_p: Probs = p.iter().flat_map(|x| x.0.clone()).collect();
-            let alone_r: Vec<Recording> = sets.iter().flatten().cloned().collect();
-            let (split, _) = tune_run_split(&alone_p, &alone_r, own);
+            let (split, _) = tune_run_split(&alone_p, &all_r, own);
             row(
                 format!("network alone + run split tuned on all sets {split:?}"),
                 f1s(&split, &p, &sets, false),
@@ -250,7 +250,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             }
         }
         let all_p: Probs = p.iter().flat_map(|x| x.1.clone()).collect();
-        let all_r: Vec<Recording> = sets.iter().flatten().cloned().collect();
         let (tuned, tuned_f1) = tune_decoder(&all_p, &all_r);
         let stored = match partner {
             Partner::Cnn(_) => net.ensemble_decoder(),

@@ -22,6 +22,7 @@
 use performance::BowDirection;
 use serde::{Deserialize, Serialize};
 
+use super::long_runs::keep_flip_log_probabilities;
 pub use super::long_runs::LongRunStay;
 
 /// How the direction sequence is decoded (module docs).
@@ -195,8 +196,7 @@ impl DirectionDecoder {
 
     /// The `(keep, flip)` log-probabilities of a change outside long runs.
     pub fn default_flip(&self) -> (f32, f32) {
-        let stay = self.stay_probability.clamp(1e-6, 1.0 - 1e-6);
-        (stay.ln(), (1.0 - stay).ln())
+        keep_flip_log_probabilities(self.stay_probability)
     }
 
     /// [`DirectionDecoder::decode`] with the log-probabilities `(keep, flip)` of the

@@ -25,6 +25,13 @@ pub struct LongRunStay {
     pub stay_probability: f32,
 }
 
+/// The `(keep, flip)` log-probabilities of a boundary that keeps the direction with
+/// probability `stay` (clamped away from 0 and 1).
+pub fn keep_flip_log_probabilities(stay: f32) -> (f32, f32) {
+    let stay = stay.clamp(1e-6, 1.0 - 1e-6);
+    (stay.ln(), (1.0 - stay).ln())
+}
+
 impl LongRunStay {
     /// Whether frame `frame` of the change probability `change` lies in a long run.
     pub fn contains(&self, change: &[f32], frame: usize) -> bool {
@@ -47,8 +54,7 @@ impl LongRunStay {
     /// `DirectionDecoder::decode_with_flips`: this stay probability inside a long run,
     /// `default` elsewhere.
     pub fn flips(&self, change: &[f32], frames: &[usize], default: (f32, f32)) -> Vec<(f32, f32)> {
-        let stay = self.stay_probability.clamp(1e-6, 1.0 - 1e-6);
-        let inside = (stay.ln(), (1.0 - stay).ln());
+        let inside = keep_flip_log_probabilities(self.stay_probability);
         frames
             .iter()
             .map(|&f| {
