@@ -12,8 +12,23 @@ use rayon::prelude::*;
 use crate::error::{NetError, Result};
 use crate::model::{window_start, BowingNet, PHASES};
 
-/// Windows (frames) classified per tile.
+/// Most windows (frames) classified per tile.
 pub const TILE_WINDOWS: usize = 1024;
+
+/// Windows per tile for a recording of `frames` frames: as few tiles as [`TILE_WINDOWS`]
+/// allows, of equal size rounded up to a multiple of [`PHASES`], so the last tile is not
+/// mostly padding (180 s in tiles of 1024 would compute 22 % more frames than it has).
+///
+/// ```
+/// use bowing_net::infer::tile_windows;
+/// assert_eq!(tile_windows(5400), 904); // 6 tiles
+/// assert_eq!(tile_windows(1025), 520); // 2 tiles
+/// assert_eq!(tile_windows(100), 104);
+/// ```
+pub fn tile_windows(frames: usize) -> usize {
+    let tiles = frames.div_ceil(TILE_WINDOWS).max(1);
+    frames.div_ceil(tiles).next_multiple_of(PHASES).max(PHASES)
+}
 /// Extra frames after the last window of a sequence so that every pool phase still has all
 /// of its windows (the phase tree truncates phases to a common length).
 pub const SEQUENCE_SLACK: usize = 2 * PHASES;
@@ -32,8 +47,9 @@ pub fn frame_probabilities(net: &BowingNet, mel: ArrayView2<f32>) -> Result<Vec<
     let frames = mel.nrows();
     let pad = pad_value(mel);
     let center = cfg.center_offset() as isize;
-    let seq_len = sequence_frames(net, TILE_WINDOWS);
-    let tiles = frames.div_ceil(TILE_WINDOWS);
+    let tile_len = tile_windows(frames);
+    let seq_len = sequence_frames(net, tile_len);
+    let tiles = frames.div_ceil(tile_len);
     let bands = cfg.n_mels;
     // Tiles are independent: run them on all cores (the ops inside stay parallel too).
     let results: Vec<Result<Vec<Vec<f32>>>> = (0..tiles)
@@ -42,7 +58,7 @@ pub fn frame_probabilities(net: &BowingNet, mel: ArrayView2<f32>) -> Result<Vec<
             let mut buf = vec![0.0f32; seq_len * bands];
             copy_frames(
                 mel,
-                (tile * TILE_WINDOWS) as isize - center,
+                (tile * tile_len) as isize - center,
                 seq_len,
                 pad,
                 &mut buf,
@@ -54,11 +70,11 @@ pub fn frame_probabilities(net: &BowingNet, mel: ArrayView2<f32>) -> Result<Vec<
         .collect();
     let mut out = vec![f32::NAN; frames];
     for (tile, probs) in results.into_iter().enumerate() {
-        let start = tile * TILE_WINDOWS;
+        let start = tile * tile_len;
         for (row, values) in probs?.iter().enumerate() {
             for (step, &p) in values.iter().enumerate() {
                 let (_, s) = window_start(row, step, 1);
-                if s < TILE_WINDOWS && start + s < frames {
+                if s < tile_len && start + s < frames {
                     out[start + s] = p;
                 }
             }

@@ -57,6 +57,12 @@ fn conv_matches_candle_forward() {
         (16, 16, 17),
         (2, 8, 9),
         (2, 16, 7),
+        // The bowing CNN's rows (128, 62 and 29 mel bands), which the direct kernel
+        // covers with blocks of 6, 6 and 13 positions, and one covered by blocks of 12.
+        (1, 16, 128),
+        (16, 16, 62),
+        (16, 8, 29),
+        (4, 8, 28),
     ];
     for (seed, (cin, cout, width)) in shapes.into_iter().enumerate() {
         let seed = seed as u64 * 3;

@@ -1,7 +1,9 @@
 //! The phase-tree evaluation over a whole spectrogram equals the per-window network.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use bowing_net::infer::{frame_probabilities, frame_probabilities_per_window, TILE_WINDOWS};
+use bowing_net::infer::{
+    frame_probabilities, frame_probabilities_per_window, tile_windows, TILE_WINDOWS,
+};
 use bowing_net::model::WeightInit;
 use bowing_net::{BowingNet, Config};
 use candle_nn::VarMap;
@@ -30,12 +32,11 @@ fn phase_tree_equals_per_window_forward() {
     let spread = fast.iter().cloned().fold(f32::NEG_INFINITY, f32::max)
         - fast.iter().cloned().fold(f32::INFINITY, f32::min);
     assert!(spread > 1e-3, "a random network should not be constant");
-    // The start, both sides of the tile border, and the end; every pool phase occurs.
-    for range in [
-        0..80,
-        TILE_WINDOWS - 40..TILE_WINDOWS + 40,
-        frames - 40..frames,
-    ] {
+    // Two tiles of equal size: the start, both sides of the tile border, and the end;
+    // every pool phase occurs.
+    let border = tile_windows(frames);
+    assert!(border < frames && 2 * border >= frames);
+    for range in [0..80, border - 40..border + 40, frames - 40..frames] {
         let slow = frame_probabilities_per_window(&net, mel.view(), range.clone()).unwrap();
         for (t, b) in range.zip(&slow) {
             let a = fast[t];

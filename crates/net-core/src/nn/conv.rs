@@ -84,13 +84,13 @@ impl Conv2dNhwc {
         bias: &[f32],
     ) -> candle_core::Result<Vec<f32>> {
         let (patch, cout) = (g.patch(), g.cout);
-        let mut out = vec![0.0f32; g.rows() * cout];
         #[cfg(target_arch = "x86_64")]
         if let Some(k) = kmat.as_slice() {
-            if super::conv_direct::try_forward(g, x, k, bias, self.relu, &mut out) {
+            if let Some(out) = super::conv_direct::try_forward(g, x, k, bias, self.relu) {
                 return Ok(out);
             }
         }
+        let mut out = vec![0.0f32; g.rows() * cout];
         out.par_chunks_mut(TILE_ROWS * cout)
             .enumerate()
             .try_for_each_init(

@@ -6,12 +6,20 @@
 //! In NHWC the `kw` taps of one kernel row read one contiguous run of `kw · c` input values,
 //! so an output position's sum is `kh` dot products over runs of the input, each against a
 //! `(kw · c) × cout` block of the kernel matrix. A block of `R` neighbouring output positions
-//! keeps its `R × cout` sums in registers while those runs stream past: no copy of the input
-//! is made (the GEMM path copies every value `kh · kw` times into patches and again into
-//! its packed panels, half of the bowing CNN's time).
+//! keeps its `R × cout` sums in vector registers while those runs stream past: no copy of
+//! the input is made (the GEMM path copies every value `kh · kw` times into patches and
+//! again into its packed panels).
 //!
-//! Sums are accumulated in the order of the kernel matrix's rows with fused multiply-adds,
-//! so results differ from the GEMM path's in the last bits only.
+//! Sums start from the bias and are accumulated in the order of the kernel matrix's rows
+//! with fused multiply-adds (one `vfmadd` per 8 channels), so results differ from the GEMM
+//! path's in the last bits only, and do not depend on the block size. The output is
+//! allocated without being zeroed: the blocks write every value of it.
+
+use std::arch::x86_64::{
+    __m256, _mm256_broadcast_ss, _mm256_fmadd_ps, _mm256_loadu_ps, _mm256_max_ps,
+    _mm256_setzero_ps, _mm256_storeu_ps,
+};
+use std::mem::MaybeUninit;
 
 use rayon::prelude::*;
 
@@ -19,6 +27,9 @@ use super::geometry::Geometry;
 
 /// Output rows (batch × height) per parallel task.
 const ROWS_PER_TASK: usize = 8;
+
+/// Channels per AVX vector.
+const LANES: usize = 8;
 
 /// What every output row reads: shapes, input, kernel matrix (`patch × cout`, row-major),
 /// bias and whether to apply the ReLU.
@@ -30,21 +41,28 @@ struct Job<'a> {
     relu: bool,
 }
 
-/// Runs the direct convolution into `out` (`rows × cout`, bias added, ReLU when `relu`)
-/// when this CPU and these shapes allow it; returns `false` (and leaves `out` alone) when
-/// they do not, so the caller takes the GEMM path.
+/// The direct convolution's output (`rows × cout`, bias added, ReLU when `relu`) when this
+/// CPU and these shapes allow it; `None` when they do not, so the caller takes the GEMM
+/// path.
 pub(super) fn try_forward(
     g: &Geometry,
     x: &[f32],
     kmat: &[f32],
     bias: &[f32],
     relu: bool,
-    out: &mut [f32],
-) -> bool {
+) -> Option<Vec<f32>> {
     let has_avx2_fma =
         std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma");
-    if g.pad_h != 0 || g.pad_w != 0 || !has_avx2_fma {
-        return false;
+    // The kernels index with raw pointers: every length they rely on is checked here.
+    let shapes_fit = g.pad_h == 0
+        && g.pad_w == 0
+        && g.ho + g.kh == g.h + 1
+        && g.wo + g.kw == g.w + 1
+        && x.len() == g.b * g.h * g.w * g.c
+        && kmat.len() == g.patch() * g.cout
+        && bias.len() == g.cout;
+    if !has_avx2_fma || !shapes_fit {
+        return None;
     }
     let job = Job {
         g,
@@ -53,99 +71,139 @@ pub(super) fn try_forward(
         bias,
         relu,
     };
-    // Positions per block, chosen by timing on this VM (AMD EPYC, AVX2): 5 × 16 channels
-    // and 10 × 8 keep 10 independent sums in flight; 6 × 16 spills and was twice as slow.
+    let mut out = Vec::with_capacity(g.rows() * g.cout);
+    let spare = &mut out.spare_capacity_mut()[..g.rows() * g.cout];
+    // Positions per block, chosen by timing on this VM (AMD EPYC, AVX2): 12 or 13
+    // independent sums in flight, plus the kernel vectors and one broadcast, fit the 16
+    // vector registers. For 8 channels the block that wastes the fewest positions on the
+    // row's overlapping last block is taken (a 25-wide row: one block of 13 and one of 12).
     match g.cout {
-        16 => run::<16, 5>(&job, out),
-        8 => run::<8, 10>(&job, out),
-        _ => return false,
+        16 => run::<2, 6>(&job, spare),
+        8 => match [13, 12, 10]
+            .into_iter()
+            .min_by_key(|&r| g.wo.div_ceil(r) * r)
+        {
+            Some(13) => run::<1, 13>(&job, spare),
+            Some(12) => run::<1, 12>(&job, spare),
+            _ => run::<1, 10>(&job, spare),
+        },
+        _ => return None,
     }
-    true
+    // SAFETY: `run` wrote every one of the first `rows × cout` values (each row's blocks
+    // cover all of its `wo` positions, `output_row` below).
+    #[allow(unsafe_code)]
+    unsafe {
+        out.set_len(g.rows() * g.cout)
+    };
+    Some(out)
 }
 
 /// Splits the output into tasks of [`ROWS_PER_TASK`] output rows and runs them in parallel.
-fn run<const N: usize, const R: usize>(job: &Job, out: &mut [f32]) {
-    let row_len = job.g.wo * N;
+fn run<const NV: usize, const R: usize>(job: &Job, out: &mut [MaybeUninit<f32>]) {
+    let row_len = job.g.wo * NV * LANES;
     out.par_chunks_mut(ROWS_PER_TASK * row_len)
         .enumerate()
         .for_each(|(task, chunk)| {
             for (k, out_row) in chunk.chunks_exact_mut(row_len).enumerate() {
                 let row = task * ROWS_PER_TASK + k;
                 // SAFETY: `try_forward` only gets here after it saw AVX2 and FMA on this
-                // CPU, which is all `output_row_avx2` requires.
+                // CPU and checked the lengths `output_row` relies on.
                 #[allow(unsafe_code)]
                 unsafe {
-                    output_row_avx2::<N, R>(job, row, out_row)
+                    output_row::<NV, R>(job, row, out_row)
                 }
             }
         });
 }
 
-/// [`output_row`] compiled for AVX2 + FMA (the compiler vectorises the channel loops).
-#[target_feature(enable = "avx2,fma")]
-fn output_row_avx2<const N: usize, const R: usize>(job: &Job, row: usize, out_row: &mut [f32]) {
-    output_row::<N, R>(job, row, out_row)
-}
-
 /// One output row (`row = image · ho + y`): blocks of `R` positions, the last one
 /// overlapping its neighbour, or single positions when the row is narrower than a block.
-#[inline(always)]
-fn output_row<const N: usize, const R: usize>(job: &Job, row: usize, out_row: &mut [f32]) {
+/// An overlapped position gets the same sum in the same order.
+///
+/// # Safety
+/// The CPU has AVX2 and FMA, the lengths checked in [`try_forward`] hold, `row < b · ho`
+/// and `out_row` holds `wo · NV · 8` values.
+#[allow(unsafe_code)]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn output_row<const NV: usize, const R: usize>(
+    job: &Job,
+    row: usize,
+    out_row: &mut [MaybeUninit<f32>],
+) {
     let g = job.g;
     let (image, y) = (row / g.ho, row % g.ho);
-    let Ok(bias) = <&[f32; N]>::try_from(job.bias) else {
-        return;
-    };
+    let out = out_row.as_mut_ptr().cast::<f32>();
     let mut xo = 0;
+    // SAFETY (all three loops): a block of `r` positions from `xo` with `xo + r ≤ wo`
+    // reads input rows `y .. y + kh ≤ h` and columns `xo .. xo + r − 1 + kw ≤ w` of
+    // `image`, and writes positions `xo .. xo + r` of this row.
     while xo + R <= g.wo {
-        block::<N, R>(job, bias, (image, y, xo), out_row);
+        unsafe { block::<NV, R>(job, (image, y, xo), out) };
         xo += R;
     }
     if xo < g.wo && g.wo >= R {
-        // The last R positions again, overlapping the previous block: an overlapped
-        // position gets the same sum in the same order, and a lone position's one chain
-        // of dependent multiply-adds would cost as much as a whole block.
-        block::<N, R>(job, bias, (image, y, g.wo - R), out_row);
+        unsafe { block::<NV, R>(job, (image, y, g.wo - R), out) };
         return;
     }
     while xo < g.wo {
-        block::<N, 1>(job, bias, (image, y, xo), out_row);
+        unsafe { block::<NV, 1>(job, (image, y, xo), out) };
         xo += 1;
     }
 }
 
-/// Output positions `xo .. xo + R` of row `y` of `image`, all `N` channels.
-#[inline(always)]
-fn block<const N: usize, const R: usize>(
+/// Output positions `xo .. xo + R` of row `y` of `image`, all `NV · 8` channels, written
+/// to `out` (the row's first value).
+///
+/// # Safety
+/// As [`output_row`], and `xo + R ≤ wo`.
+#[allow(unsafe_code)]
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+unsafe fn block<const NV: usize, const R: usize>(
     job: &Job,
-    bias: &[f32; N],
     (image, y, xo): (usize, usize, usize),
-    out_row: &mut [f32],
+    out: *mut f32,
 ) {
-    let (x, kmat) = (job.x, job.kmat);
-    let (h, w, c, kh) = (job.g.h, job.g.w, job.g.c, job.g.kh);
-    let run = job.g.kw * c;
-    let mut acc = [*bias; R];
-    for dy in 0..kh {
-        let start = ((image * h + y + dy) * w + xo) * c;
-        let inputs: [&[f32]; R] = std::array::from_fn(|r| &x[start + r * c..][..run]);
-        let kernel_rows = &kmat[dy * run * N..(dy + 1) * run * N];
-        for (q, k) in kernel_rows.chunks_exact(N).enumerate() {
-            let Ok(k) = <&[f32; N]>::try_from(k) else {
-                continue;
-            };
-            for (a, input) in acc.iter_mut().zip(&inputs) {
-                let v = input[q];
-                for (s, w) in a.iter_mut().zip(k) {
-                    *s = v.mul_add(*w, *s);
+    let g = job.g;
+    let (n, c) = (NV * LANES, g.c);
+    let run = g.kw * c;
+    let mut bias = [_mm256_setzero_ps(); NV];
+    for (v, b) in bias.iter_mut().enumerate() {
+        // SAFETY: `bias` holds `cout = NV · 8` values.
+        *b = unsafe { _mm256_loadu_ps(job.bias.as_ptr().add(v * LANES)) };
+    }
+    let mut acc: [[__m256; NV]; R] = [bias; R];
+    let (x, kmat) = (job.x.as_ptr(), job.kmat.as_ptr());
+    for dy in 0..g.kh {
+        // SAFETY: this input row's run of positions lies inside `x` (see `output_row`).
+        let inputs = unsafe { x.add(((image * g.h + y + dy) * g.w + xo) * c) };
+        // SAFETY: kernel rows `dy · run .. (dy + 1) · run` of the `patch × n` matrix.
+        let kernel_rows = unsafe { kmat.add(dy * run * n) };
+        for q in 0..run {
+            let mut k = [_mm256_setzero_ps(); NV];
+            for (v, kv) in k.iter_mut().enumerate() {
+                // SAFETY: inside kernel row `dy · run + q`.
+                *kv = unsafe { _mm256_loadu_ps(kernel_rows.add(q * n + v * LANES)) };
+            }
+            for (r, a) in acc.iter_mut().enumerate() {
+                // SAFETY: position `xo + r`'s tap `q` of this input row.
+                let s = unsafe { _mm256_broadcast_ss(&*inputs.add(r * c + q)) };
+                for (av, kv) in a.iter_mut().zip(&k) {
+                    *av = _mm256_fmadd_ps(s, *kv, *av);
                 }
             }
         }
     }
+    let zero = _mm256_setzero_ps();
     for (r, a) in acc.iter().enumerate() {
-        let dst = &mut out_row[(xo + r) * N..(xo + r + 1) * N];
-        for (d, s) in dst.iter_mut().zip(a) {
-            *d = if job.relu { s.max(0.0) } else { *s };
+        for (v, av) in a.iter().enumerate() {
+            let value = if job.relu {
+                _mm256_max_ps(*av, zero)
+            } else {
+                *av
+            };
+            // SAFETY: position `xo + r < wo` of this output row.
+            unsafe { _mm256_storeu_ps(out.add((xo + r) * n + v * LANES), value) };
         }
     }
 }
