@@ -306,7 +306,8 @@ fn conv_skips_the_input_gradient_only_when_the_input_needs_none() {
 
 #[test]
 fn phase_pool_equals_two_pools_concatenated_with_exact_gradients() {
-    for h in [9usize, 10] {
+    // 69 and 70 rows: more than one task of output rows, with a ragged last task.
+    for h in [9usize, 10, 69, 70] {
         let y = separated(&[2, h, 7, 3], 37 + h as u64);
         let k = (h - 1) / 2;
         let reference = Tensor::cat(
@@ -320,6 +321,8 @@ fn phase_pool_equals_two_pools_concatenated_with_exact_gradients() {
         let fused = pool_phases_nhwc(&y).unwrap();
         assert_eq!(fused.dims(), &[4, k, 3, 3]);
         assert_eq!(max_abs_diff(&fused, &reference), 0.0);
-        check_grad(&y, &|y| pool_phases_nhwc(y).unwrap(), 400, 1e-3);
+        if h < 20 {
+            check_grad(&y, &|y| pool_phases_nhwc(y).unwrap(), 400, 1e-3);
+        }
     }
 }

@@ -58,6 +58,66 @@ fn pool_image(img: &[f32], w: usize, c: usize, ho: usize, dst: &mut [f32]) {
     }
 }
 
+/// `v` if it is larger than `m`, else `m`: taken in reading order, the first maximum wins
+/// and a NaN is kept only when it comes first.
+#[inline(always)]
+fn first_max(m: f32, v: f32) -> f32 {
+    if v > m {
+        v
+    } else {
+        m
+    }
+}
+
+/// The maximum of each horizontal pair of cells of one input row (`w × c`, channels last)
+/// into `dst` (`w/2 × c`).
+fn pair_max_row(row: &[f32], c: usize, dst: &mut [f32]) {
+    for (x, cell) in dst.chunks_exact_mut(c).enumerate() {
+        let (p, q) = row[2 * x * c..][..2 * c].split_at(c);
+        for ((o, &a), &b) in cell.iter_mut().zip(p).zip(q) {
+            *o = first_max(a, b);
+        }
+    }
+}
+
+/// Output rows per parallel task of [`PoolPhases`].
+const PHASE_ROWS_PER_TASK: usize = 32;
+
+/// Output rows `y0 .. y0 + even.len() / (wo · c)` of both phases of one image `img`
+/// (`h × w × c`): each input row's horizontal pair maxima are taken once and shared by the
+/// two phases that read the row. Same values as [`pool_image`] on rows `2y, 2y + 1` (even)
+/// and `2y + 1, 2y + 2` (odd) whenever no value is NaN (the first maximum of the top pair,
+/// then of the bottom pair, then of the two).
+fn pool_phase_rows(img: &[f32], w: usize, c: usize, y0: usize, even: &mut [f32], odd: &mut [f32]) {
+    let (row, half) = (w * c, (w / 2) * c);
+    if half == 0 {
+        return;
+    }
+    let mut top = vec![0.0f32; half];
+    let mut mid = vec![0.0f32; half];
+    let mut bottom = vec![0.0f32; half];
+    pair_max_row(&img[2 * y0 * row..][..row], c, &mut top);
+    for (k, (e, o)) in even
+        .chunks_exact_mut(half)
+        .zip(odd.chunks_exact_mut(half))
+        .enumerate()
+    {
+        let y = y0 + k;
+        pair_max_row(&img[(2 * y + 1) * row..][..row], c, &mut mid);
+        pair_max_row(&img[(2 * y + 2) * row..][..row], c, &mut bottom);
+        for (((de, do_), (&t, &m)), &b) in e
+            .iter_mut()
+            .zip(o.iter_mut())
+            .zip(top.iter().zip(&mid))
+            .zip(&bottom)
+        {
+            *de = first_max(t, m);
+            *do_ = first_max(m, b);
+        }
+        std::mem::swap(&mut top, &mut bottom);
+    }
+}
+
 /// Adds `g` (the gradient of the `ho × w/2` cells [`pool_image`] made from `img`) onto `dst`
 /// (laid out like `img`) at each cell's first maximum.
 fn route_image(img: &[f32], g: &[f32], w: usize, c: usize, ho: usize, dst: &mut [f32]) {
@@ -188,13 +248,22 @@ impl CustomOp1 for PoolPhases {
         let src = f32_contiguous(storage, layout)?;
         let (ho, wo) = (phase_rows(h), w / 2);
         let mut out = vec![0.0f32; 2 * b * ho * wo * c];
-        if !out.is_empty() {
-            out.par_chunks_mut(ho * wo * c)
+        let (image_out, task_out) = (ho * wo * c, PHASE_ROWS_PER_TASK * wo * c);
+        if image_out > 0 {
+            // Odd rows are read by both phases: tasks own the same rows of both halves.
+            let (even, odd) = out.split_at_mut(b * image_out);
+            even.par_chunks_mut(image_out)
+                .zip(odd.par_chunks_mut(image_out))
                 .enumerate()
-                .for_each(|(k, dst)| {
-                    let (phase, bi) = (k / b, k % b);
-                    let img = &src[bi * h * w * c + phase * w * c..(bi + 1) * h * w * c];
-                    pool_image(img, w, c, ho, dst);
+                .flat_map(|(bi, (e, o))| {
+                    e.par_chunks_mut(task_out)
+                        .zip(o.par_chunks_mut(task_out))
+                        .enumerate()
+                        .map(move |(t, pair)| (bi, t, pair))
+                })
+                .for_each(|(bi, t, (e, o))| {
+                    let img = &src[bi * h * w * c..(bi + 1) * h * w * c];
+                    pool_phase_rows(img, w, c, t * PHASE_ROWS_PER_TASK, e, o);
                 });
         }
         Ok((CpuStorage::F32(out), Shape::from((2 * b, ho, wo, c))))
