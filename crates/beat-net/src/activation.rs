@@ -162,10 +162,16 @@ impl BeatActivation {
         let n_mels = self.net.config().n_mels;
         net_core::frames::check_mel(mel_db, n_mels)?;
         let x = frame_features(mel_db)?;
-        let (frames, f) = x.dim();
-        let values: Vec<f32> = x.iter().copied().collect();
-        let input = Tensor::from_vec(values, (1, frames, f), &Device::Cpu)?;
-        probabilities(&self.net.forward_t(&input, false)?)
+        let logits = self.net.frame_logits(x.view())?;
+        let mut out = Activations::default();
+        for row in logits.rows() {
+            let top = row.iter().copied().fold(f32::NEG_INFINITY, f32::max);
+            let e: Vec<f32> = row.iter().map(|v| (v - top).exp()).collect();
+            let sum: f32 = e.iter().sum();
+            out.beat.push(e.get(1).map_or(f32::NAN, |v| v / sum));
+            out.downbeat.push(e.get(2).map_or(f32::NAN, |v| v / sum));
+        }
+        Ok(out)
     }
 }
 

@@ -8,7 +8,8 @@
 
 use candle_core::{DType, Device, Module, Tensor};
 use candle_nn::{Init, Linear, VarBuilder, VarMap};
-use net_core::nn::{DropoutRng, Tcn, TcnConfig};
+use ndarray::{Array2, ArrayView2};
+use net_core::nn::{linear_parts, linear_rows, DropoutRng, Tcn, TcnConfig};
 use serde::{Deserialize, Serialize};
 
 use crate::error::{BeatNetError, Result};
@@ -155,5 +156,39 @@ impl BeatNet {
             .broadcast_div(&self.norm_std.detach())?;
         let h = self.tcn.forward_t(&x, train)?.relu()?;
         Ok(self.head.forward(&h)?)
+    }
+
+    /// Logits `(frames, 3)` of one sequence's features `(frames, in_features)`: the
+    /// function [`BeatNet::forward_t`] computes without dropout, through the trunk's
+    /// inference path ([`Tcn::forward_frames`]; values differ from `forward_t`'s in the
+    /// last bits). For inference: no gradients.
+    ///
+    /// ```
+    /// let (_vm, net) = beat_net::BeatNet::seeded(&Default::default(), 1)?;
+    /// let x = ndarray::Array2::<f32>::zeros((40, 130));
+    /// assert_eq!(net.frame_logits(x.view())?.dim(), (40, 3));
+    /// # Ok::<(), beat_net::BeatNetError>(())
+    /// ```
+    pub fn frame_logits(&self, x: ArrayView2<f32>) -> Result<Array2<f32>> {
+        let f = x.ncols();
+        let (mean, std) = (
+            self.norm_mean.to_vec1::<f32>()?,
+            self.norm_std.to_vec1::<f32>()?,
+        );
+        if f != self.cfg.tcn.in_features || mean.len() != f || std.len() != f {
+            return Err(BeatNetError::Input(format!(
+                "frames have {f} features, the network takes {}",
+                self.cfg.tcn.in_features
+            )));
+        }
+        let mut x = x.to_owned();
+        for mut row in x.rows_mut() {
+            for ((v, m), s) in row.iter_mut().zip(&mean).zip(&std) {
+                *v = (*v - m) / s;
+            }
+        }
+        let mut h = self.tcn.forward_frames(x.view())?;
+        h.mapv_inplace(|v| v.max(0.0));
+        Ok(linear_rows(h.view(), &linear_parts(&self.head)?))
     }
 }

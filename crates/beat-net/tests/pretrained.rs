@@ -62,3 +62,29 @@ fn weights_round_trip_and_other_files_are_refused() {
     assert!(BeatActivation::from_bytes(&bytes[..bytes.len() / 2], Path::new("half")).is_err());
     assert!(BeatActivation::from_bytes(b"not weights", Path::new("junk")).is_err());
 }
+
+/// The inference path (ndarray products) gives the activations the candle graph gives.
+#[test]
+fn inference_path_equals_the_training_graph() {
+    let net = BeatActivation::pretrained().unwrap();
+    let mel = clicks(-12.0);
+    let fast = net.activations(mel.view()).unwrap();
+    let x = beat_net::features::frame_features(mel.view()).unwrap();
+    let (frames, f) = x.dim();
+    let input = candle_core::Tensor::from_vec(
+        x.iter().copied().collect::<Vec<f32>>(),
+        (1, frames, f),
+        &candle_core::Device::Cpu,
+    )
+    .unwrap();
+    let graph =
+        beat_net::activation::probabilities(&net.net().forward_t(&input, false).unwrap()).unwrap();
+    for (a, b) in fast
+        .beat
+        .iter()
+        .chain(&fast.downbeat)
+        .zip(graph.beat.iter().chain(&graph.downbeat))
+    {
+        assert!((a - b).abs() < 1e-5, "{a} vs {b}");
+    }
+}

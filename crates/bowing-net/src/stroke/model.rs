@@ -8,9 +8,9 @@
 //!   apart, so it is not used for inference ([`super::decode`]);
 //! * `string`: four logits, the string being bowed (G, D, A, E).
 
-use candle_core::{DType, Device, Module, Tensor, D};
+use candle_core::{DType, Module, Tensor, D};
 use candle_nn::{Linear, VarBuilder};
-use net_core::nn::{DropoutRng, Tcn, TcnConfig};
+use net_core::nn::{linear_parts, linear_rows, DropoutRng, Tcn, TcnConfig};
 use serde::{Deserialize, Serialize};
 
 use crate::error::{NetError, Result};
@@ -123,7 +123,10 @@ impl StrokeNet {
         })
     }
 
-    /// Per-frame probabilities of one recording's input `(frames, features)`.
+    /// Per-frame probabilities of one recording's input `(frames, features)`: the
+    /// function [`StrokeNet::forward_t`] computes without dropout, through the trunk's
+    /// inference path ([`Tcn::forward_frames`]; values differ from `forward_t`'s in the
+    /// last bits).
     pub fn frame_outputs(
         &self,
         input: &ndarray::Array2<f32>,
@@ -132,27 +135,36 @@ impl StrokeNet {
         if frames == 0 {
             return Ok(super::outputs::FrameOutputs::default());
         }
-        let x = Tensor::from_slice(
-            input
-                .as_slice()
-                .ok_or_else(|| NetError::Config("input not contiguous".into()))?,
-            (1, frames, features),
-            &Device::Cpu,
-        )?;
-        let logits = self.forward_t(&x, false)?;
-        let sig = |t: &Tensor| -> Result<Vec<f32>> {
-            Ok(candle_nn::ops::sigmoid(t)?.squeeze(0)?.to_vec1::<f32>()?)
+        let (mean, std) = (self.mean.to_vec1::<f32>()?, self.std.to_vec1::<f32>()?);
+        if features != mean.len() || features != std.len() {
+            return Err(NetError::Input(format!(
+                "{features} features per frame, the network reads {}",
+                mean.len()
+            )));
+        }
+        let mut x = input.clone();
+        for mut row in x.rows_mut() {
+            for ((v, m), s) in row.iter_mut().zip(&mean).zip(&std) {
+                *v = (*v - m) / s;
+            }
+        }
+        let h = self.trunk.forward_frames(x.view())?;
+        let out = linear_rows(h.view(), &linear_parts(&self.heads)?);
+        let sigmoid = |v: f32| 1.0 / (1.0 + (-v).exp());
+        let softmax = |v: [f32; 4]| {
+            let top = v.iter().copied().fold(f32::NEG_INFINITY, f32::max);
+            let e = v.map(|x| (x - top).exp());
+            let sum: f32 = e.iter().sum();
+            e.map(|x| x / sum)
         };
-        let strings = candle_nn::ops::softmax(&logits.string, D::Minus1)?
-            .squeeze(0)?
-            .to_vec2::<f32>()?
-            .into_iter()
-            .map(|v| [v[0], v[1], v[2], v[3]])
-            .collect();
         Ok(super::outputs::FrameOutputs {
-            change: sig(&logits.change)?,
-            string: strings,
-            down: sig(&logits.down)?,
+            change: out.column(0).iter().map(|&v| sigmoid(v)).collect(),
+            string: out
+                .rows()
+                .into_iter()
+                .map(|r| softmax([r[2], r[3], r[4], r[5]]))
+                .collect(),
+            down: out.column(1).iter().map(|&v| sigmoid(v)).collect(),
         })
     }
 }

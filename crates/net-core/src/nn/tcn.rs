@@ -8,8 +8,10 @@
 //! The frames beyond the ends are zeros. Every output frame sees
 //! `1 + 2·Σd` input frames ([`TcnConfig::receptive_field_frames`]).
 
-use candle_core::{Module, Tensor};
+use candle_core::{bail, Module, Tensor};
 use candle_nn::{Linear, VarBuilder};
+use ndarray::linalg::general_mat_mul;
+use ndarray::{s, Array2, ArrayView1, ArrayView2};
 use serde::{Deserialize, Serialize};
 
 use super::dropout::{DropoutRng, SeededDropout};
@@ -140,6 +142,89 @@ impl Tcn {
     }
 }
 
+/// A linear layer's weight `(out, in)` and bias (zeros when it has none) as ndarray values.
+pub fn linear_parts(layer: &Linear) -> candle_core::Result<(Array2<f32>, Vec<f32>)> {
+    let w = layer.weight();
+    let (out, inputs) = w.dims2()?;
+    let values = w.flatten_all()?.to_vec1::<f32>()?;
+    let w = Array2::from_shape_vec((out, inputs), values)
+        .map_err(|e| candle_core::Error::Msg(format!("linear layer: {e}")))?;
+    let bias = match layer.bias() {
+        Some(b) => b.to_vec1::<f32>()?,
+        None => vec![0.0; out],
+    };
+    Ok((w, bias))
+}
+
+/// `dst`'s rows set to `bias` (`fill`) or with `bias` added.
+fn add_rows(dst: &mut Array2<f32>, bias: &[f32], fill: bool) {
+    let bias = ArrayView1::from(bias);
+    for mut row in dst.rows_mut() {
+        if fill {
+            row.assign(&bias);
+        } else {
+            row += &bias;
+        }
+    }
+}
+
+/// `x · layer_weightᵀ + bias` for the rows of `x` (`(rows, in)` → `(rows, out)`), with
+/// [`linear_parts`]' values.
+pub fn linear_rows(x: ArrayView2<f32>, (w, bias): &(Array2<f32>, Vec<f32>)) -> Array2<f32> {
+    let mut y = Array2::zeros((x.nrows(), w.nrows()));
+    add_rows(&mut y, bias, true);
+    general_mat_mul(1.0, &x, &w.t(), 1.0, &mut y);
+    y
+}
+
+impl Tcn {
+    /// One sequence `(frames, in_features)` through the trunk without dropout →
+    /// `(frames, channels)`: the function [`Tcn::forward_t`] computes with `train = false`,
+    /// for inference (no gradients). The products accumulate in place (ndarray's
+    /// `general_mat_mul`): a block's three taps read row-shifted views of the hidden
+    /// state instead of shifted copies, and the residual is the output product's
+    /// accumulator. Sums run in another order than candle's, so values differ from
+    /// [`Tcn::forward_t`]'s in the last bits.
+    pub fn forward_frames(&self, x: ArrayView2<f32>) -> candle_core::Result<Array2<f32>> {
+        let input = linear_parts(&self.input)?;
+        if x.ncols() != input.0.ncols() {
+            bail!(
+                "TCN: {} features per frame, the trunk reads {}",
+                x.ncols(),
+                input.0.ncols()
+            )
+        }
+        let (t, c) = (x.nrows(), input.0.nrows());
+        let mut h = linear_rows(x, &input);
+        let mut mix = Array2::<f32>::zeros((t, c));
+        for block in &self.blocks {
+            let (w_mix, b_mix) = linear_parts(&block.mix)?;
+            let (w_out, b_out) = linear_parts(&block.out)?;
+            if w_mix.dim() != (c, 3 * c) || w_out.dim() != (c, c) {
+                bail!(
+                    "TCN: a block's weights are {:?} and {:?}",
+                    w_mix.dim(),
+                    w_out.dim()
+                )
+            }
+            let tap = |k: usize| w_mix.slice(s![.., k * c..(k + 1) * c]);
+            let d = block.dilation.min(t);
+            add_rows(&mut mix, &b_mix, true);
+            // mix[t] += W₀·h[t − d] + W₁·h[t] + W₂·h[t + d] (zeros beyond the ends).
+            let (w0, w1, w2) = (tap(0), tap(1), tap(2));
+            let mut late = mix.slice_mut(s![d.., ..]);
+            general_mat_mul(1.0, &h.slice(s![..t - d, ..]), &w0.t(), 1.0, &mut late);
+            general_mat_mul(1.0, &h, &w1.t(), 1.0, &mut mix);
+            let mut early = mix.slice_mut(s![..t - d, ..]);
+            general_mat_mul(1.0, &h.slice(s![d.., ..]), &w2.t(), 1.0, &mut early);
+            mix.mapv_inplace(|v| v.max(0.0));
+            add_rows(&mut h, &b_out, false);
+            general_mat_mul(1.0, &mix, &w_out.t(), 1.0, &mut h);
+        }
+        Ok(h)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -190,6 +275,32 @@ mod tests {
         }
         assert!(diff[0][10] > 0.0);
         assert!(diff[1].iter().all(|d| *d == 0.0));
+    }
+
+    #[test]
+    fn forward_frames_equals_forward_t() {
+        for (dilations, frames) in [(vec![1, 2], 20), (vec![4, 16], 9), (vec![1], 1)] {
+            let (tcn, _) = trunk(dilations);
+            let x = crate::gradcheck::uniform_tensor(&[1, frames, 5], 6, 1.0).unwrap();
+            let reference = tcn.forward_t(&x, false).unwrap().squeeze(0).unwrap();
+            let reference = reference.to_vec2::<f32>().unwrap();
+            let rows = x.squeeze(0).unwrap().to_vec2::<f32>().unwrap();
+            let x = Array2::from_shape_fn((frames, 5), |(t, f)| rows[t][f]);
+            let fast = tcn.forward_frames(x.view()).unwrap();
+            assert_eq!(fast.dim(), (frames, 4));
+            for (t, row) in reference.iter().enumerate() {
+                for (ch, v) in row.iter().enumerate() {
+                    let diff = (fast[[t, ch]] - v).abs();
+                    assert!(
+                        diff < 1e-5,
+                        "frame {t} channel {ch}: {} vs {v}",
+                        fast[[t, ch]]
+                    );
+                }
+            }
+        }
+        let (tcn, _) = trunk(vec![1]);
+        assert!(tcn.forward_frames(Array2::zeros((3, 4)).view()).is_err());
     }
 
     #[test]
