@@ -20,7 +20,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{NetError, Result};
 use net_core::nn::{
-    conv2d_relu_nhwc, max_pool2x2_nhwc, pool_phases_nhwc, DropoutRng, SeededDropout,
+    conv2d_relu_nhwc, conv2d_relu_pool_phases_nhwc, max_pool2x2_nhwc, pool_phases_nhwc, DropoutRng,
+    SeededDropout,
 };
 
 /// The network's shape (SPEC §4 by default).
@@ -298,8 +299,22 @@ impl BowingNet {
     /// `mel` `(batch, frames, n_mels)` dB with `frames ≥ window_frames + 7`; returns
     /// `(PHASES · batch, steps, 2)` where row `r = c·4B + b·2B + a·B + i` (sequence `i`,
     /// pool offsets `a, b, c`) and step `j` is the window starting at frame
-    /// `a + 2b + 4c + 8j` of sequence `i` — see [`window_start`].
+    /// `a + 2b + 4c + 8j` of sequence `i` — see [`window_start`]. Differentiable; `train`
+    /// applies dropout.
     pub fn sequence_logits(&self, mel: &Tensor, train: bool) -> Result<Tensor> {
+        self.phase_tree(mel, Mode::Graph { train })
+    }
+
+    /// [`BowingNet::sequence_logits`] without dropout, for inference: each convolution,
+    /// its ReLU and the phase pool run as one op
+    /// ([`net_core::nn::conv2d_relu_pool_phases_nhwc`]), so the convolutions' whole
+    /// outputs never reach memory. The same values; no gradients.
+    pub fn sequence_logits_inference(&self, mel: &Tensor) -> Result<Tensor> {
+        self.phase_tree(mel, Mode::Inference)
+    }
+
+    fn phase_tree(&self, mel: &Tensor, mode: Mode) -> Result<Tensor> {
+        let train = matches!(mode, Mode::Graph { train: true });
         let (_, frames, m) = mel.dims3()?;
         if m != self.cfg.n_mels || frames < self.cfg.window_frames + PHASES - 1 {
             return Err(NetError::Input(format!(
@@ -310,8 +325,16 @@ impl BowingNet {
         }
         let mut x = self.normalise(mel)?.unsqueeze(3)?;
         for i in 0..3 {
-            let y = self.conv_relu(i, &x)?;
-            x = self.conv_dropout.forward_t(&pool_phases_nhwc(&y)?, train)?;
+            x = match mode {
+                Mode::Graph { train } => {
+                    let y = self.conv_relu(i, &x)?;
+                    self.conv_dropout.forward_t(&pool_phases_nhwc(&y)?, train)?
+                }
+                Mode::Inference => {
+                    let c = &self.convs[i];
+                    conv2d_relu_pool_phases_nhwc(&x, &c.weight, &c.bias)?
+                }
+            };
         }
         let (t3, _) = self.cfg.trunk_output();
         let (rows, steps, f3, c3) = x.dims4()?;
@@ -332,6 +355,15 @@ impl BowingNet {
             .narrow(D::Minus1, 1, 1)?
             .squeeze(D::Minus1)?)
     }
+}
+
+/// How [`BowingNet::phase_tree`] runs its convolution stages.
+#[derive(Debug, Clone, Copy)]
+enum Mode {
+    /// candle's graph (differentiable), with dropout when `train`.
+    Graph { train: bool },
+    /// Fused forward-only ops.
+    Inference,
 }
 
 /// Window start (frame of the padded sequence) of row `row`, step `step` of

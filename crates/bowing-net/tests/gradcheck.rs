@@ -8,7 +8,8 @@ use candle_core::{Device, Tensor, Var};
 use candle_nn::VarMap;
 use net_core::gradcheck::{check_input_gradient, check_parameter_gradients, uniform_tensor};
 use net_core::nn::{
-    conv2d_nhwc, conv2d_relu_nhwc, max_pool2x2_nhwc, pool_phases_nhwc, weighted_cross_entropy,
+    conv2d_nhwc, conv2d_relu_nhwc, conv2d_relu_pool_phases_nhwc, max_pool2x2_nhwc,
+    pool_phases_nhwc, weighted_cross_entropy,
 };
 use net_core::rng::Rng;
 use net_core::vars;
@@ -325,4 +326,39 @@ fn phase_pool_equals_two_pools_concatenated_with_exact_gradients() {
             check_grad(&y, &|y| pool_phases_nhwc(y).unwrap(), 400, 1e-3);
         }
     }
+}
+
+/// The fused inference op equals a convolution + ReLU then the phase pool, bit for bit, on
+/// the bowing CNN's three stages (direct kernel), on 4 channels (the two ops' fallback) and
+/// on rows too short for a block; it has no backward pass.
+#[test]
+fn fused_conv_pool_equals_the_two_ops() {
+    for (seed, (b, h, w, cin, cout)) in [
+        (2, 75, 128, 1, 16),
+        (2, 35, 62, 16, 16),
+        (4, 16, 29, 16, 8),
+        (1, 12, 9, 3, 4),
+        (1, 10, 7, 2, 8),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let seed = 50 + 3 * seed as u64;
+        let x = random(&[b, h, w, cin], seed);
+        let k = random(&[cout, cin, 5, 5], seed + 1);
+        let bias = random(&[cout], seed + 2);
+        let fused = conv2d_relu_pool_phases_nhwc(&x, &k, &bias).unwrap();
+        let two = pool_phases_nhwc(&conv2d_relu_nhwc(&x, &k, &bias, (0, 0)).unwrap()).unwrap();
+        assert_eq!(fused.dims(), two.dims());
+        assert_eq!(
+            max_abs_diff(&fused, &two),
+            0.0,
+            "{b}×{h}×{w}×{cin} → {cout}"
+        );
+    }
+    let x = candle_core::Var::from_tensor(&random(&[1, 9, 9, 1], 3)).unwrap();
+    let y =
+        conv2d_relu_pool_phases_nhwc(x.as_tensor(), &random(&[8, 1, 5, 5], 4), &random(&[8], 5))
+            .unwrap();
+    assert!(y.sum_all().unwrap().backward().unwrap().get(&x).is_none());
 }

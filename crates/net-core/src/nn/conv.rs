@@ -86,8 +86,8 @@ impl Conv2dNhwc {
         let (patch, cout) = (g.patch(), g.cout);
         #[cfg(target_arch = "x86_64")]
         if let Some(k) = kmat.as_slice() {
-            if let Some(out) = super::conv_direct::try_forward(g, x, k, bias, self.relu) {
-                return Ok(out);
+            if let Some(direct) = super::conv_direct::DirectConv::new(g, x, k, bias, self.relu) {
+                return Ok(direct.forward());
             }
         }
         let mut out = vec![0.0f32; g.rows() * cout];

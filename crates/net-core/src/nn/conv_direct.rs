@@ -19,13 +19,12 @@ use std::arch::x86_64::{
     __m256, _mm256_broadcast_ss, _mm256_fmadd_ps, _mm256_loadu_ps, _mm256_max_ps,
     _mm256_setzero_ps, _mm256_storeu_ps,
 };
-use std::mem::MaybeUninit;
 
 use rayon::prelude::*;
 
 use super::geometry::Geometry;
 
-/// Output rows (batch × height) per parallel task.
+/// Output rows (batch × height) per parallel task of [`DirectConv::forward`].
 const ROWS_PER_TASK: usize = 8;
 
 /// Channels per AVX vector.
@@ -41,79 +40,120 @@ struct Job<'a> {
     relu: bool,
 }
 
-/// The direct convolution's output (`rows × cout`, bias added, ReLU when `relu`) when this
-/// CPU and these shapes allow it; `None` when they do not, so the caller takes the GEMM
-/// path.
-pub(super) fn try_forward(
-    g: &Geometry,
-    x: &[f32],
-    kmat: &[f32],
-    bias: &[f32],
-    relu: bool,
-) -> Option<Vec<f32>> {
-    let has_avx2_fma =
-        std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma");
-    // The kernels index with raw pointers: every length they rely on is checked here.
-    let shapes_fit = g.pad_h == 0
-        && g.pad_w == 0
-        && g.ho + g.kh == g.h + 1
-        && g.wo + g.kw == g.w + 1
-        && x.len() == g.b * g.h * g.w * g.c
-        && kmat.len() == g.patch() * g.cout
-        && bias.len() == g.cout;
-    if !has_avx2_fma || !shapes_fit {
-        return None;
-    }
-    let job = Job {
-        g,
-        x,
-        kmat,
-        bias,
-        relu,
-    };
-    let mut out = Vec::with_capacity(g.rows() * g.cout);
-    let spare = &mut out.spare_capacity_mut()[..g.rows() * g.cout];
-    // Positions per block, chosen by timing on this VM (AMD EPYC, AVX2): 12 or 13
-    // independent sums in flight, plus the kernel vectors and one broadcast, fit the 16
-    // vector registers. For 8 channels the block that wastes the fewest positions on the
-    // row's overlapping last block is taken (a 25-wide row: one block of 13 and one of 12).
-    match g.cout {
-        16 => run::<2, 6>(&job, spare),
-        8 => match [13, 12, 10]
-            .into_iter()
-            .min_by_key(|&r| g.wo.div_ceil(r) * r)
-        {
-            Some(13) => run::<1, 13>(&job, spare),
-            Some(12) => run::<1, 12>(&job, spare),
-            _ => run::<1, 10>(&job, spare),
-        },
-        _ => return None,
-    }
-    // SAFETY: `run` wrote every one of the first `rows × cout` values (each row's blocks
-    // cover all of its `wo` positions, `output_row` below).
-    #[allow(unsafe_code)]
-    unsafe {
-        out.set_len(g.rows() * g.cout)
-    };
-    Some(out)
+/// The unsafe kernel computing one output row into the pointed-to `wo × cout` values.
+type RowKernel = unsafe fn(&Job, usize, *mut f32);
+
+/// A direct convolution whose CPU features, shapes and block size were checked: it computes
+/// any output row, or the whole output.
+pub(super) struct DirectConv<'a> {
+    job: Job<'a>,
+    kernel: RowKernel,
 }
 
-/// Splits the output into tasks of [`ROWS_PER_TASK`] output rows and runs them in parallel.
-fn run<const NV: usize, const R: usize>(job: &Job, out: &mut [MaybeUninit<f32>]) {
-    let row_len = job.g.wo * NV * LANES;
-    out.par_chunks_mut(ROWS_PER_TASK * row_len)
-        .enumerate()
-        .for_each(|(task, chunk)| {
-            for (k, out_row) in chunk.chunks_exact_mut(row_len).enumerate() {
-                let row = task * ROWS_PER_TASK + k;
-                // SAFETY: `try_forward` only gets here after it saw AVX2 and FMA on this
-                // CPU and checked the lengths `output_row` relies on.
-                #[allow(unsafe_code)]
-                unsafe {
-                    output_row::<NV, R>(job, row, out_row)
-                }
-            }
-        });
+impl<'a> DirectConv<'a> {
+    /// The direct convolution of `x` by `kmat` (`patch × cout`, row-major) plus `bias`
+    /// (then a ReLU when `relu`), when this CPU and these shapes allow it; `None` when they
+    /// do not, so the caller takes the GEMM path.
+    pub(super) fn new(
+        g: &'a Geometry,
+        x: &'a [f32],
+        kmat: &'a [f32],
+        bias: &'a [f32],
+        relu: bool,
+    ) -> Option<Self> {
+        let has_avx2_fma = std::arch::is_x86_feature_detected!("avx2")
+            && std::arch::is_x86_feature_detected!("fma");
+        // The kernels index with raw pointers: every length they rely on is checked here.
+        let shapes_fit = g.pad_h == 0
+            && g.pad_w == 0
+            && g.ho + g.kh == g.h + 1
+            && g.wo + g.kw == g.w + 1
+            && x.len() == g.b * g.h * g.w * g.c
+            && kmat.len() == g.patch() * g.cout
+            && bias.len() == g.cout;
+        if !has_avx2_fma || !shapes_fit {
+            return None;
+        }
+        // Positions per block, chosen by timing on this VM (AMD EPYC, AVX2): 12 or 13
+        // independent sums in flight, plus the kernel vectors and one broadcast, fit the 16
+        // vector registers. For 8 channels the block that wastes the fewest positions on the
+        // row's overlapping last block is taken (a 25-wide row: one block of 13, one of 12).
+        let kernel: RowKernel = match g.cout {
+            16 => output_row::<2, 6>,
+            8 => match [13, 12, 10]
+                .into_iter()
+                .min_by_key(|&r| g.wo.div_ceil(r) * r)
+            {
+                Some(13) => output_row::<1, 13>,
+                Some(12) => output_row::<1, 12>,
+                _ => output_row::<1, 10>,
+            },
+            _ => return None,
+        };
+        let job = Job {
+            g,
+            x,
+            kmat,
+            bias,
+            relu,
+        };
+        Some(Self { job, kernel })
+    }
+
+    /// Values per output row (`wo · cout`).
+    pub(super) fn row_len(&self) -> usize {
+        self.job.g.wo * self.job.g.cout
+    }
+
+    /// Output rows (`b · ho`).
+    pub(super) fn rows(&self) -> usize {
+        self.job.g.b * self.job.g.ho
+    }
+
+    /// Output row `row` (`image · ho + y`) into `out`; `false` (and `out` untouched) when
+    /// `row` is out of range or `out` does not hold [`DirectConv::row_len`] values.
+    pub(super) fn output_row(&self, row: usize, out: &mut [f32]) -> bool {
+        if row >= self.rows() || out.len() != self.row_len() {
+            return false;
+        }
+        // SAFETY: `new` saw AVX2 and FMA and checked the lengths the kernel relies on;
+        // `row` and `out` were checked above.
+        #[allow(unsafe_code)]
+        unsafe {
+            (self.kernel)(&self.job, row, out.as_mut_ptr())
+        };
+        true
+    }
+
+    /// The whole output (`rows × cout`), rows in parallel tasks of [`ROWS_PER_TASK`],
+    /// allocated without being zeroed: the kernel writes every value.
+    pub(super) fn forward(&self) -> Vec<f32> {
+        let (rows, row_len) = (self.rows(), self.row_len());
+        let mut out = Vec::with_capacity(rows * row_len);
+        if row_len > 0 {
+            out.spare_capacity_mut()[..rows * row_len]
+                .par_chunks_mut(ROWS_PER_TASK * row_len)
+                .enumerate()
+                .for_each(|(task, chunk)| {
+                    for (k, out_row) in chunk.chunks_exact_mut(row_len).enumerate() {
+                        let row = task * ROWS_PER_TASK + k;
+                        // SAFETY: as in `output_row`; `row < rows` and `out_row` holds
+                        // `row_len` values (whole chunks of the output's rows).
+                        #[allow(unsafe_code)]
+                        unsafe {
+                            (self.kernel)(&self.job, row, out_row.as_mut_ptr().cast::<f32>())
+                        };
+                    }
+                });
+        }
+        // SAFETY: the loop above wrote every one of the first `rows × row_len` values (each
+        // row's blocks cover all of its `wo` positions, `output_row` below).
+        #[allow(unsafe_code)]
+        unsafe {
+            out.set_len(rows * row_len)
+        };
+        out
+    }
 }
 
 /// One output row (`row = image · ho + y`): blocks of `R` positions, the last one
@@ -121,18 +161,13 @@ fn run<const NV: usize, const R: usize>(job: &Job, out: &mut [MaybeUninit<f32>])
 /// An overlapped position gets the same sum in the same order.
 ///
 /// # Safety
-/// The CPU has AVX2 and FMA, the lengths checked in [`try_forward`] hold, `row < b · ho`
-/// and `out_row` holds `wo · NV · 8` values.
+/// The CPU has AVX2 and FMA, the lengths checked in [`DirectConv::new`] hold,
+/// `row < b · ho` and `out` points to `wo · NV · 8` writable values.
 #[allow(unsafe_code)]
 #[target_feature(enable = "avx2,fma")]
-unsafe fn output_row<const NV: usize, const R: usize>(
-    job: &Job,
-    row: usize,
-    out_row: &mut [MaybeUninit<f32>],
-) {
+unsafe fn output_row<const NV: usize, const R: usize>(job: &Job, row: usize, out: *mut f32) {
     let g = job.g;
     let (image, y) = (row / g.ho, row % g.ho);
-    let out = out_row.as_mut_ptr().cast::<f32>();
     let mut xo = 0;
     // SAFETY (all three loops): a block of `r` positions from `xo` with `xo + r ≤ wo`
     // reads input rows `y .. y + kh ≤ h` and columns `xo .. xo + r − 1 + kw ≤ w` of

@@ -8,6 +8,7 @@
 mod conv;
 #[cfg(target_arch = "x86_64")]
 mod conv_direct;
+mod conv_pool;
 mod dropout;
 mod geometry;
 mod pool;
@@ -15,6 +16,7 @@ mod storage;
 mod tcn;
 
 pub use conv::{conv2d_nhwc, conv2d_relu_nhwc, Conv2dNhwc};
+pub use conv_pool::conv2d_relu_pool_phases_nhwc;
 pub use dropout::{DropoutRng, SeededDropout};
 pub use pool::{
     max_pool2x2_nhwc, pool_phases_nhwc, MaxPool2x2, MaxPool2x2Backward, PoolPhases,

@@ -71,7 +71,7 @@ fn first_max(m: f32, v: f32) -> f32 {
 
 /// The maximum of each horizontal pair of cells of one input row (`w × c`, channels last)
 /// into `dst` (`w/2 × c`).
-fn pair_max_row(row: &[f32], c: usize, dst: &mut [f32]) {
+pub(super) fn pair_max_row(row: &[f32], c: usize, dst: &mut [f32]) {
     for (x, cell) in dst.chunks_exact_mut(c).enumerate() {
         let (p, q) = row[2 * x * c..][..2 * c].split_at(c);
         for ((o, &a), &b) in cell.iter_mut().zip(p).zip(q) {
@@ -83,28 +83,34 @@ fn pair_max_row(row: &[f32], c: usize, dst: &mut [f32]) {
 /// Output rows per parallel task of [`PoolPhases`].
 const PHASE_ROWS_PER_TASK: usize = 32;
 
-/// Output rows `y0 .. y0 + even.len() / (wo · c)` of both phases of one image `img`
-/// (`h × w × c`): each input row's horizontal pair maxima are taken once and shared by the
-/// two phases that read the row. Same values as [`pool_image`] on rows `2y, 2y + 1` (even)
-/// and `2y + 1, 2y + 2` (odd) whenever no value is NaN (the first maximum of the top pair,
-/// then of the bottom pair, then of the two).
-fn pool_phase_rows(img: &[f32], w: usize, c: usize, y0: usize, even: &mut [f32], odd: &mut [f32]) {
-    let (row, half) = (w * c, (w / 2) * c);
+/// Output rows `y0 ..` of both phases (`even`, `odd`: whole rows of `half` values each)
+/// of one image whose input row `r`'s horizontal pair maxima `pair_maxima(r, dst)` writes
+/// (`half` values): each input row's pair maxima are taken once and shared by the two
+/// phases that read the row. Same values as [`pool_image`] on rows `2y, 2y + 1` (even) and
+/// `2y + 1, 2y + 2` (odd) whenever no value is NaN (the first maximum of the top pair, then
+/// of the bottom pair, then of the two).
+pub(super) fn pool_phase_rows_with(
+    mut pair_maxima: impl FnMut(usize, &mut [f32]),
+    half: usize,
+    y0: usize,
+    even: &mut [f32],
+    odd: &mut [f32],
+) {
     if half == 0 {
         return;
     }
     let mut top = vec![0.0f32; half];
     let mut mid = vec![0.0f32; half];
     let mut bottom = vec![0.0f32; half];
-    pair_max_row(&img[2 * y0 * row..][..row], c, &mut top);
+    pair_maxima(2 * y0, &mut top);
     for (k, (e, o)) in even
         .chunks_exact_mut(half)
         .zip(odd.chunks_exact_mut(half))
         .enumerate()
     {
         let y = y0 + k;
-        pair_max_row(&img[(2 * y + 1) * row..][..row], c, &mut mid);
-        pair_max_row(&img[(2 * y + 2) * row..][..row], c, &mut bottom);
+        pair_maxima(2 * y + 1, &mut mid);
+        pair_maxima(2 * y + 2, &mut bottom);
         for (((de, do_), (&t, &m)), &b) in e
             .iter_mut()
             .zip(o.iter_mut())
@@ -116,6 +122,34 @@ fn pool_phase_rows(img: &[f32], w: usize, c: usize, y0: usize, even: &mut [f32],
         }
         std::mem::swap(&mut top, &mut bottom);
     }
+}
+
+/// Runs `task(image, first output row, even rows, odd rows)` in parallel over blocks of
+/// [`PHASE_ROWS_PER_TASK`] output rows of both phases of `out` (`(2b, ho, wo, c)` as
+/// `2 · b · image_out` values, even phase first). Odd input rows are read by both phases,
+/// so each task owns the same rows of both halves.
+pub(super) fn for_phase_row_blocks(
+    out: &mut [f32],
+    b: usize,
+    image_out: usize,
+    half: usize,
+    task: impl Fn(usize, usize, &mut [f32], &mut [f32]) + Sync,
+) {
+    if image_out == 0 || half == 0 {
+        return;
+    }
+    let task_out = PHASE_ROWS_PER_TASK * half;
+    let (even, odd) = out.split_at_mut(b * image_out);
+    even.par_chunks_mut(image_out)
+        .zip(odd.par_chunks_mut(image_out))
+        .enumerate()
+        .flat_map(|(bi, (e, o))| {
+            e.par_chunks_mut(task_out)
+                .zip(o.par_chunks_mut(task_out))
+                .enumerate()
+                .map(move |(t, pair)| (bi, t, pair))
+        })
+        .for_each(|(bi, t, (e, o))| task(bi, t * PHASE_ROWS_PER_TASK, e, o));
 }
 
 /// Adds `g` (the gradient of the `ho × w/2` cells [`pool_image`] made from `img`) onto `dst`
@@ -230,7 +264,7 @@ pub fn max_pool2x2_nhwc(x: &Tensor) -> candle_core::Result<Tensor> {
 pub struct PoolPhases;
 
 /// Rows per phase of [`PoolPhases`] for an input of `h` rows.
-fn phase_rows(h: usize) -> usize {
+pub(super) fn phase_rows(h: usize) -> usize {
     h.saturating_sub(1) / 2
 }
 
@@ -248,24 +282,13 @@ impl CustomOp1 for PoolPhases {
         let src = f32_contiguous(storage, layout)?;
         let (ho, wo) = (phase_rows(h), w / 2);
         let mut out = vec![0.0f32; 2 * b * ho * wo * c];
-        let (image_out, task_out) = (ho * wo * c, PHASE_ROWS_PER_TASK * wo * c);
-        if image_out > 0 {
-            // Odd rows are read by both phases: tasks own the same rows of both halves.
-            let (even, odd) = out.split_at_mut(b * image_out);
-            even.par_chunks_mut(image_out)
-                .zip(odd.par_chunks_mut(image_out))
-                .enumerate()
-                .flat_map(|(bi, (e, o))| {
-                    e.par_chunks_mut(task_out)
-                        .zip(o.par_chunks_mut(task_out))
-                        .enumerate()
-                        .map(move |(t, pair)| (bi, t, pair))
-                })
-                .for_each(|(bi, t, (e, o))| {
-                    let img = &src[bi * h * w * c..(bi + 1) * h * w * c];
-                    pool_phase_rows(img, w, c, t * PHASE_ROWS_PER_TASK, e, o);
-                });
-        }
+        let (row, half) = (w * c, wo * c);
+        for_phase_row_blocks(&mut out, b, ho * half, half, |bi, y0, e, o| {
+            let img = &src[bi * h * row..(bi + 1) * h * row];
+            let pair_maxima =
+                |r: usize, dst: &mut [f32]| pair_max_row(&img[r * row..][..row], c, dst);
+            pool_phase_rows_with(pair_maxima, half, y0, e, o);
+        });
         Ok((CpuStorage::F32(out), Shape::from((2 * b, ho, wo, c))))
     }
 
