@@ -1,8 +1,9 @@
 //! Stride-1 inference over a whole recording: one probability of "bow change" per frame.
 //!
-//! The spectrogram is cut into tiles of [`TILE_WINDOWS`] windows (plus the window's context)
-//! and each tile goes through the phase tree of [`BowingNet::sequence_logits`], so the
-//! convolutions run about once per frame instead of once per window.
+//! The spectrogram is cut into equal tiles of at most [`TILE_WINDOWS`] windows (plus the
+//! window's context, [`tile_windows`]) and each tile goes through the phase tree of
+//! [`BowingNet::sequence_logits_inference`], so the convolutions run about once per frame
+//! instead of once per window.
 
 use candle_core::{Device, Tensor};
 use ndarray::ArrayView2;
