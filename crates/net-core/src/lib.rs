@@ -5,7 +5,7 @@
 //!
 //! * [`rng`]: the seeded, stable random generator every seeded draw of the workspace uses
 //!   (the synthetic corpus too, whose output must not change with a dependency);
-//! * [`file`]: safetensors weights files with string metadata — the network's format name
+//! * [`file`](mod@file): safetensors weights files with string metadata — the network's format name
 //!   and version, its configuration as JSON — decoded with checks (format, version, tensor
 //!   shapes, truncation, non-finite values) whose errors name the file and what to do;
 //! * [`frames`]: the spectrogram input checks and windowing every network runs;
