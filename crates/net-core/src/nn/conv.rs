@@ -167,6 +167,31 @@ fn values(t: &Tensor) -> candle_core::Result<Vec<f32>> {
     t.flatten_all()?.to_vec1::<f32>()
 }
 
+/// A convolution op's arguments: shapes, input, kernel matrix `(patch, cout)`, bias.
+pub(super) type ConvArguments<'a> = (Geometry, &'a [f32], Array2<f32>, &'a [f32]);
+
+/// A convolution op's arguments read in place: the shapes, the input, the kernel as a
+/// `(patch, cout)` matrix and the bias (its length checked).
+pub(super) fn conv_arguments<'a>(
+    (xs, xl): (&'a CpuStorage, &Layout),
+    (ks, kl): (&CpuStorage, &Layout),
+    (bs, bl): (&'a CpuStorage, &Layout),
+    (pad_h, pad_w): (usize, usize),
+) -> candle_core::Result<ConvArguments<'a>> {
+    let g = Geometry::new(xl.dims(), kl.dims(), pad_h, pad_w)?;
+    let x = f32_contiguous(xs, xl)?;
+    let bias = f32_contiguous(bs, bl)?;
+    if bias.len() != g.cout {
+        bail!(
+            "conv2d_nhwc: bias has {} values for {} channels",
+            bias.len(),
+            g.cout
+        )
+    }
+    let kmat = g.kernel_matrix(f32_contiguous(ks, kl)?);
+    Ok((g, x, kmat, bias))
+}
+
 impl CustomOp3 for Conv2dNhwc {
     fn name(&self) -> &'static str {
         "conv2d-nhwc"
@@ -181,17 +206,8 @@ impl CustomOp3 for Conv2dNhwc {
         bs: &CpuStorage,
         bl: &Layout,
     ) -> candle_core::Result<(CpuStorage, Shape)> {
-        let g = Geometry::new(xl.dims(), kl.dims(), self.pad_h, self.pad_w)?;
-        let x = f32_contiguous(xs, xl)?;
-        let bias = f32_contiguous(bs, bl)?;
-        if bias.len() != g.cout {
-            bail!(
-                "conv2d_nhwc: bias has {} values for {} channels",
-                bias.len(),
-                g.cout
-            )
-        }
-        let kmat = g.kernel_matrix(f32_contiguous(ks, kl)?);
+        let (g, x, kmat, bias) =
+            conv_arguments((xs, xl), (ks, kl), (bs, bl), (self.pad_h, self.pad_w))?;
         let out = self.forward(&g, x, &kmat, bias)?;
         Ok((CpuStorage::F32(out), Shape::from((g.b, g.ho, g.wo, g.cout))))
     }

@@ -11,11 +11,9 @@
 
 use candle_core::{bail, CpuStorage, CustomOp3, Layout, Shape, Tensor};
 
-use super::conv::Conv2dNhwc;
-use super::geometry::Geometry;
+use super::conv::{conv_arguments, Conv2dNhwc};
 #[cfg_attr(not(target_arch = "x86_64"), allow(unused_imports))]
 use super::pool::{for_phase_row_blocks, pair_max_row, phase_rows, pool_phase_rows_with};
-use super::storage::f32_contiguous;
 
 /// The fused op: inputs `x (b, h, w, c)`, `weight (cout, c, kh, kw)`, `bias (cout)`;
 /// output `(2b, (h' − 1)/2, w'/2, cout)` where `h' × w'` is the unpadded convolution's size.
@@ -36,19 +34,9 @@ impl CustomOp3 for ConvReluPoolPhases {
         bs: &CpuStorage,
         bl: &Layout,
     ) -> candle_core::Result<(CpuStorage, Shape)> {
-        let g = Geometry::new(xl.dims(), kl.dims(), 0, 0)?;
-        let x = f32_contiguous(xs, xl)?;
-        let bias = f32_contiguous(bs, bl)?;
-        if bias.len() != g.cout {
-            bail!(
-                "conv2d_relu_pool_phases_nhwc: bias has {} values for {} channels",
-                bias.len(),
-                g.cout
-            )
-        }
+        let (g, x, kmat, bias) = conv_arguments((xs, xl), (ks, kl), (bs, bl), (0, 0))?;
         let (hp, wp) = (phase_rows(g.ho), g.wo / 2);
         let shape = Shape::from((2 * g.b, hp, wp, g.cout));
-        let kmat = g.kernel_matrix(f32_contiguous(ks, kl)?);
         #[cfg(target_arch = "x86_64")]
         if let Some(k) = kmat.as_slice() {
             if let Some(direct) = super::conv_direct::DirectConv::new(&g, x, k, bias, true) {
