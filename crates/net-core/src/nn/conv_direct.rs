@@ -79,14 +79,23 @@ impl<'a> DirectConv<'a> {
         // vector registers. For 8 channels the block that wastes the fewest positions on the
         // row's overlapping last block is taken (a 25-wide row: one block of 13, one of 12).
         let kernel: RowKernel = match g.cout {
-            16 => output_row::<2, 6>,
-            8 => match [13, 12, 10]
-                .into_iter()
-                .min_by_key(|&r| g.wo.div_ceil(r) * r)
-            {
-                Some(13) => output_row::<1, 13>,
-                Some(12) => output_row::<1, 12>,
-                _ => output_row::<1, 10>,
+            // Input channels known at compile time (the bowing CNN's 1 and 16) turn the
+            // kernel's input offsets into constants.
+            16 => match g.c {
+                1 => output_row::<2, 6, 1>,
+                16 => output_row::<2, 6, 16>,
+                _ => output_row::<2, 6, 0>,
+            },
+            8 => match (
+                [13, 12, 10]
+                    .into_iter()
+                    .min_by_key(|&r| g.wo.div_ceil(r) * r),
+                g.c,
+            ) {
+                (Some(13), 16) => output_row::<1, 13, 16>,
+                (Some(13), _) => output_row::<1, 13, 0>,
+                (Some(12), _) => output_row::<1, 12, 0>,
+                _ => output_row::<1, 10, 0>,
             },
             _ => return None,
         };
@@ -165,7 +174,11 @@ impl<'a> DirectConv<'a> {
 /// `row < b · ho` and `out` points to `wo · NV · 8` writable values.
 #[allow(unsafe_code)]
 #[target_feature(enable = "avx2,fma")]
-unsafe fn output_row<const NV: usize, const R: usize>(job: &Job, row: usize, out: *mut f32) {
+unsafe fn output_row<const NV: usize, const R: usize, const C: usize>(
+    job: &Job,
+    row: usize,
+    out: *mut f32,
+) {
     let g = job.g;
     let (image, y) = (row / g.ho, row % g.ho);
     let mut xo = 0;
@@ -173,15 +186,15 @@ unsafe fn output_row<const NV: usize, const R: usize>(job: &Job, row: usize, out
     // reads input rows `y .. y + kh ≤ h` and columns `xo .. xo + r − 1 + kw ≤ w` of
     // `image`, and writes positions `xo .. xo + r` of this row.
     while xo + R <= g.wo {
-        unsafe { block::<NV, R>(job, (image, y, xo), out) };
+        unsafe { block::<NV, R, C>(job, (image, y, xo), out) };
         xo += R;
     }
     if xo < g.wo && g.wo >= R {
-        unsafe { block::<NV, R>(job, (image, y, g.wo - R), out) };
+        unsafe { block::<NV, R, C>(job, (image, y, g.wo - R), out) };
         return;
     }
     while xo < g.wo {
-        unsafe { block::<NV, 1>(job, (image, y, xo), out) };
+        unsafe { block::<NV, 1, C>(job, (image, y, xo), out) };
         xo += 1;
     }
 }
@@ -194,13 +207,14 @@ unsafe fn output_row<const NV: usize, const R: usize>(job: &Job, row: usize, out
 #[allow(unsafe_code)]
 #[target_feature(enable = "avx2,fma")]
 #[inline]
-unsafe fn block<const NV: usize, const R: usize>(
+unsafe fn block<const NV: usize, const R: usize, const C: usize>(
     job: &Job,
     (image, y, xo): (usize, usize, usize),
     out: *mut f32,
 ) {
     let g = job.g;
-    let (n, c) = (NV * LANES, g.c);
+    // `C` is the input's channel count when known at compile time, 0 otherwise.
+    let (n, c) = (NV * LANES, if C > 0 { C } else { g.c });
     let run = g.kw * c;
     let mut bias = [_mm256_setzero_ps(); NV];
     for (v, b) in bias.iter_mut().enumerate() {
