@@ -8,6 +8,7 @@ use candle_core::{Device, Tensor, D};
 use candle_nn::{VarBuilder, VarMap};
 use ndarray::ArrayView2;
 use net_core::file::{self, TensorFile};
+use net_core::nn::softmax_in_place;
 use net_core::vars;
 
 use crate::error::{BeatNetError, Result};
@@ -164,12 +165,12 @@ impl BeatActivation {
         let x = frame_features(mel_db)?;
         let logits = self.net.frame_logits(x.view())?;
         let mut out = Activations::default();
+        let mut p = vec![0.0f32; logits.ncols()];
         for row in logits.rows() {
-            let top = row.iter().copied().fold(f32::NEG_INFINITY, f32::max);
-            let e: Vec<f32> = row.iter().map(|v| (v - top).exp()).collect();
-            let sum: f32 = e.iter().sum();
-            out.beat.push(e.get(1).map_or(f32::NAN, |v| v / sum));
-            out.downbeat.push(e.get(2).map_or(f32::NAN, |v| v / sum));
+            p.iter_mut().zip(row).for_each(|(d, v)| *d = *v);
+            softmax_in_place(&mut p);
+            out.beat.push(p.get(1).copied().unwrap_or(f32::NAN));
+            out.downbeat.push(p.get(2).copied().unwrap_or(f32::NAN));
         }
         Ok(out)
     }

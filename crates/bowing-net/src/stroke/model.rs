@@ -10,7 +10,7 @@
 
 use candle_core::{DType, Module, Tensor, D};
 use candle_nn::{Linear, VarBuilder};
-use net_core::nn::{linear_parts, linear_rows, DropoutRng, Tcn, TcnConfig};
+use net_core::nn::{linear_parts, linear_rows, softmax_in_place, DropoutRng, Tcn, TcnConfig};
 use serde::{Deserialize, Serialize};
 
 use crate::error::{NetError, Result};
@@ -151,11 +151,9 @@ impl StrokeNet {
         let h = self.trunk.forward_frames(x.view())?;
         let out = linear_rows(h.view(), &linear_parts(&self.heads)?);
         let sigmoid = |v: f32| 1.0 / (1.0 + (-v).exp());
-        let softmax = |v: [f32; 4]| {
-            let top = v.iter().copied().fold(f32::NEG_INFINITY, f32::max);
-            let e = v.map(|x| (x - top).exp());
-            let sum: f32 = e.iter().sum();
-            e.map(|x| x / sum)
+        let softmax = |mut v: [f32; 4]| {
+            softmax_in_place(&mut v);
+            v
         };
         Ok(super::outputs::FrameOutputs {
             change: out.column(0).iter().map(|&v| sigmoid(v)).collect(),

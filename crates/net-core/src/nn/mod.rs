@@ -22,7 +22,7 @@ pub use pool::{
     max_pool2x2_nhwc, pool_phases_nhwc, MaxPool2x2, MaxPool2x2Backward, PoolPhases,
     PoolPhasesBackward,
 };
-pub use tcn::{linear_parts, linear_rows, Tcn, TcnConfig};
+pub use tcn::{linear_parts, linear_rows, softmax_in_place, Tcn, TcnConfig};
 
 /// Cross-entropy of two-class `logits` `(n, 2)` against `targets` (0/1, `n`) with
 /// per-example `weights` `(n)`: `Σ wᵢ·CEᵢ / Σ wᵢ` (0 when all weights are 0).

@@ -177,6 +177,25 @@ pub fn linear_rows(x: ArrayView2<f32>, (w, bias): &(Array2<f32>, Vec<f32>)) -> A
     y
 }
 
+/// Softmax of one row of logits, in place (the maximum subtracted first, as candle's
+/// `softmax` does).
+///
+/// ```
+/// let mut row = [0.0f32, 0.0, (2.0f32).ln()];
+/// net_core::nn::softmax_in_place(&mut row);
+/// assert!((row[2] - 0.5).abs() < 1e-6 && (row[0] - 0.25).abs() < 1e-6);
+/// ```
+pub fn softmax_in_place(row: &mut [f32]) {
+    let top = row.iter().copied().fold(f32::NEG_INFINITY, f32::max);
+    for v in row.iter_mut() {
+        *v = (*v - top).exp();
+    }
+    let sum: f32 = row.iter().sum();
+    for v in row.iter_mut() {
+        *v /= sum;
+    }
+}
+
 impl Tcn {
     /// One sequence `(frames, in_features)` through the trunk without dropout →
     /// `(frames, channels)`: the function [`Tcn::forward_t`] computes with `train = false`,
