@@ -215,6 +215,12 @@ pub fn build_many(
     sf2_dir: &Path,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<Manifest, CorpusError> {
+    if cfg.augment {
+        crate::room::check_encoders().map_err(|e| CorpusError::Io {
+            path: root.to_path_buf(),
+            reason: e.to_string(),
+        })?;
+    }
     let bank = ViolinBank::load(sf2_dir)?;
     let (scores, skipped) = match &cfg.repertoire {
         Some(dir) => crate::repertoire::read_dir(dir)?,

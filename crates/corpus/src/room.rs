@@ -35,7 +35,7 @@ use net_core::rng::Rng;
 
 pub use error::RoomError;
 pub use ir::rt60_schroeder;
-pub use lossy::{encode_lossy, LossyEncoding, LossyKind};
+pub use lossy::{check_encoders, encode_lossy, LossyEncoding, LossyKind};
 pub use noise::{NoiseKind, NoiseSpec};
 
 /// The render rates a recording can be drawn at, with their weights.

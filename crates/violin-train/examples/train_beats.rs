@@ -4,19 +4,33 @@
 //! `CANDLE_NUM_THREADS=1 RAYON_NUM_THREADS=1 cargo run --release -p violin-train --example
 //! train_beats -- /work/data/corpus-10h crates/beat-net/weights/beat-net.safetensors [CONFIG.json]`
 //!
-//! CONFIG.json: any subset of `beat_net::TrainConfig` (defaults otherwise).
+//! CONFIG.json: any subset of `beat_net::TrainConfig` (defaults otherwise). Each
+//! `--extra-train DIR` adds the train split of another corpus (built with another seed: the
+//! same training works, other excerpts, tempi and violins); validation stays the first
+//! corpus's.
 
 use std::path::PathBuf;
 
 use beat_net::TrainConfig;
-use violin_train::beat_data::load_beat_corpus;
+use violin_train::beat_data::{load_beat_corpus, load_beat_train_split};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
-    let usage = "usage: train_beats CORPUS_DIR OUT.safetensors [CONFIG.json]";
-    let data_dir: PathBuf = args.next().ok_or(usage)?.into();
-    let out: PathBuf = args.next().ok_or(usage)?.into();
-    let mut cfg: TrainConfig = match args.next() {
+    let usage =
+        "usage: train_beats CORPUS_DIR OUT.safetensors [CONFIG.json] [--extra-train DIR]...";
+    let mut positional = Vec::new();
+    let mut extra: Vec<PathBuf> = Vec::new();
+    while let Some(a) = args.next() {
+        if a == "--extra-train" {
+            extra.push(args.next().ok_or(usage)?.into());
+        } else {
+            positional.push(a);
+        }
+    }
+    let mut positional = positional.into_iter();
+    let data_dir: PathBuf = positional.next().ok_or(usage)?.into();
+    let out: PathBuf = positional.next().ok_or(usage)?.into();
+    let mut cfg: TrainConfig = match positional.next() {
         Some(p) => serde_json::from_str(&std::fs::read_to_string(p)?)?,
         None => TrainConfig::default(),
     };
@@ -24,8 +38,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "{} (train split; val for early stopping)",
         data_dir.display()
     );
+    for dir in &extra {
+        cfg.data_description += &format!(" + {} (train split)", dir.display());
+    }
     let t0 = std::time::Instant::now();
-    let data = load_beat_corpus(&data_dir, &|_, _| {})?;
+    let mut data = load_beat_corpus(&data_dir, &|_, _| {})?;
+    for dir in &extra {
+        data.train.extend(load_beat_train_split(dir, &|_, _| {})?);
+    }
     println!(
         "loaded {} train and {} val recordings in {:.0} s",
         data.train.len(),

@@ -80,18 +80,22 @@ pub fn load_beat_item(dir: &Path, name: &str) -> Result<Recording> {
     })
 }
 
-/// The train and validation items of the corpus at `dir`; `progress(done, total)` as they
-/// load.
-pub fn load_beat_corpus(dir: &Path, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<Splits> {
+/// The items of the corpus at `dir` whose split is one of `splits`, in manifest order, each
+/// with its split; `progress(done, total)` as they load.
+fn load_beat_items(
+    dir: &Path,
+    splits: &[Split],
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<Vec<(Split, Recording)>> {
     let manifest = read_manifest(dir)?;
     let wanted: Vec<_> = manifest
         .items
         .iter()
-        .filter(|it| matches!(it.split, Split::Train | Split::Val))
+        .filter(|it| splits.contains(&it.split))
         .collect();
     let total = wanted.len();
     let done = std::sync::atomic::AtomicUsize::new(0);
-    let loaded: Vec<Result<(Split, Recording)>> = wanted
+    wanted
         .par_iter()
         .map(|item| {
             let rec = load_beat_item(&dir.join(&item.dir), &item.dir)?;
@@ -101,12 +105,17 @@ pub fn load_beat_corpus(dir: &Path, progress: &(dyn Fn(usize, usize) + Sync)) ->
             );
             Ok((item.split, rec))
         })
-        .collect();
+        .collect()
+}
+
+/// The train and validation items of the corpus at `dir`; `progress(done, total)` as they
+/// load.
+pub fn load_beat_corpus(dir: &Path, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<Splits> {
     let mut splits = Splits::default();
-    for r in loaded {
-        match r? {
-            (Split::Train, rec) => splits.train.push(rec),
-            (_, rec) => splits.val.push(rec),
+    for (split, rec) in load_beat_items(dir, &[Split::Train, Split::Val], progress)? {
+        match split {
+            Split::Train => splits.train.push(rec),
+            _ => splits.val.push(rec),
         }
     }
     if splits.train.is_empty() || splits.val.is_empty() {
@@ -116,6 +125,27 @@ pub fn load_beat_corpus(dir: &Path, progress: &(dyn Fn(usize, usize) + Sync)) ->
         });
     }
     Ok(splits)
+}
+
+/// Only the `train` items of the corpus at `dir`: more training music from a second corpus
+/// built with another seed. Works go to splits by a stable hash of their name
+/// (`corpus::schedule::work_split`), so these are training works; its validation and test
+/// items are not read.
+pub fn load_beat_train_split(
+    dir: &Path,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<Vec<Recording>> {
+    let train: Vec<Recording> = load_beat_items(dir, &[Split::Train], progress)?
+        .into_iter()
+        .map(|(_, rec)| rec)
+        .collect();
+    if train.is_empty() {
+        return Err(TrainError::Dataset {
+            path: dir.to_path_buf(),
+            reason: "the corpus has no train items".into(),
+        });
+    }
+    Ok(train)
 }
 
 #[cfg(test)]

@@ -10,7 +10,7 @@ pub enum RoomError {
     #[error("room convolution: {0}")]
     Convolution(String),
     /// An encoder program is not installed.
-    #[error("`{tool}` is not installed or not on PATH: install it (Debian: apt-get install {tool} or vorbis-tools) or draw recordings without lossy encoding")]
+    #[error("`{tool}` is not installed or not on PATH: install it (Debian: apt-get install lame vorbis-tools) or build the corpus with --no-augment")]
     EncoderMissing {
         /// `lame` or `oggenc`.
         tool: &'static str,

@@ -85,6 +85,25 @@ impl LossyEncoding {
     }
 }
 
+/// Checks that both encoders run (`lame --version`, `oggenc --version`), so that a corpus
+/// build that may draw lossy recordings fails before it renders anything rather than at its
+/// first lossy item.
+pub fn check_encoders() -> Result<(), RoomError> {
+    for tool in ["lame", "oggenc"] {
+        Command::new(tool).arg("--version").output().map_err(|e| {
+            if e.kind() == std::io::ErrorKind::NotFound {
+                RoomError::EncoderMissing { tool }
+            } else {
+                RoomError::Encoder {
+                    tool,
+                    reason: e.to_string(),
+                }
+            }
+        })?;
+    }
+    Ok(())
+}
+
 /// Encodes the WAV file `wav_path` (16-bit PCM is accepted by both encoders) to `out_path`
 /// with `encoding`. The same input and encoding give identical bytes.
 ///
@@ -195,6 +214,25 @@ mod tests {
             let peak = audio.peak();
             assert!((0.2..0.6).contains(&peak), "{tool}: decoded peak {peak}");
         }
+    }
+
+    #[test]
+    fn the_encoder_check_agrees_with_the_tools() {
+        let both = tool_available("lame") && tool_available("oggenc");
+        match check_encoders() {
+            Ok(()) => assert!(both, "the check passed without both encoders"),
+            Err(e) => {
+                assert!(!both, "the check failed with both encoders present: {e}");
+                let msg = e.to_string();
+                assert!(msg.contains("apt-get install lame vorbis-tools"), "{msg}");
+            }
+        }
+        let msg = RoomError::EncoderMissing { tool: "oggenc" }.to_string();
+        assert!(
+            msg.contains("`oggenc`") && msg.contains("vorbis-tools"),
+            "{msg}"
+        );
+        assert!(msg.contains("--no-augment"), "{msg}");
     }
 
     #[test]
