@@ -85,21 +85,27 @@ impl LossyEncoding {
     }
 }
 
+/// The error for an encoder that could not be started: missing, or another reason.
+fn start_error(tool: &'static str, e: &std::io::Error) -> RoomError {
+    if e.kind() == std::io::ErrorKind::NotFound {
+        RoomError::EncoderMissing { tool }
+    } else {
+        RoomError::Encoder {
+            tool,
+            reason: e.to_string(),
+        }
+    }
+}
+
 /// Checks that both encoders run (`lame --version`, `oggenc --version`), so that a corpus
 /// build that may draw lossy recordings fails before it renders anything rather than at its
 /// first lossy item.
 pub fn check_encoders() -> Result<(), RoomError> {
     for tool in ["lame", "oggenc"] {
-        Command::new(tool).arg("--version").output().map_err(|e| {
-            if e.kind() == std::io::ErrorKind::NotFound {
-                RoomError::EncoderMissing { tool }
-            } else {
-                RoomError::Encoder {
-                    tool,
-                    reason: e.to_string(),
-                }
-            }
-        })?;
+        Command::new(tool)
+            .arg("--version")
+            .output()
+            .map_err(|e| start_error(tool, &e))?;
     }
     Ok(())
 }
@@ -121,16 +127,10 @@ pub fn encode_lossy(
             reason: format!("cannot read {}: {e}", wav_path.display()),
         })?;
     let (tool, args) = encoding.command(wav_path, out_path, sample_rate_hz);
-    let output = Command::new(tool).args(&args).output().map_err(|e| {
-        if e.kind() == std::io::ErrorKind::NotFound {
-            RoomError::EncoderMissing { tool }
-        } else {
-            RoomError::Encoder {
-                tool,
-                reason: e.to_string(),
-            }
-        }
-    })?;
+    let output = Command::new(tool)
+        .args(&args)
+        .output()
+        .map_err(|e| start_error(tool, &e))?;
     if !output.status.success() {
         return Err(RoomError::Encoder {
             tool,
