@@ -8,11 +8,14 @@
 //! cargo run --release -p violin-train --example train_strokes -- CORPUS OUT.safetensors EPOCHS --init W.safetensors --lr 5e-4 --seed 2 [--direction-weight 2] [--eq-db 6]
 //! cargo run --release -p violin-train --example train_strokes -- CORPUS --eval W.safetensors [--write-ensemble]
 //! cargo run --release -p violin-train --example train_strokes -- CORPUS OUT.safetensors EPOCHS --val-violin waveguide
-//! cargo run --release -p violin-train --example train_strokes -- CORPUS OUT.safetensors EPOCHS --init W --eq-db 6 --extra-val VAL_VIOLIN_CORPUS [--extra-train TRAIN_VIOLIN_CORPUS …]
+//! cargo run --release -p violin-train --example train_strokes -- CORPUS OUT.safetensors EPOCHS --init W --eq-db 6 --extra-val VAL_VIOLIN_CORPUS [--extra-train TRAIN_CORPUS …] [--steps-per-epoch N]
 //! ```
 //!
-//! `--extra-train DIR` (repeatable) adds the training items of a training-violin corpus
-//! (`violin-skeleton corpus … --training-violin V`) to training.
+//! `--extra-train DIR` (repeatable) adds the training split of another corpus to training:
+//! a training-violin corpus (`violin-skeleton corpus … --training-violin V`) or a corpus of
+//! other works and études (another `--seed`; check that none of its training works is a
+//! validation or test work of CORPUS). `--steps-per-epoch N` caps an epoch at N steps, so
+//! a larger training set can get the same number of updates as a smaller one.
 //! `--val-violin NAME` moves the training items of one violin source into validation, so the
 //! network never hears that violin and validation measures what a new violin costs.
 //! `--extra-val DIR` adds the validation items of a validation-violin corpus (`violin-skeleton
@@ -96,6 +99,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             timbre_eq_db: flag("--eq-db")?.map_or(Ok(defaults.timbre_eq_db), |v| v.parse())?,
             direction_weight: flag("--direction-weight")?
                 .map_or(Ok(defaults.direction_weight), |v| v.parse())?,
+            max_steps_per_epoch: flag("--steps-per-epoch")?.map(|v| v.parse()).transpose()?,
             ..defaults
         };
         let report = train_strokes(&data, &cfg, &out, &mut |p| {
