@@ -146,8 +146,11 @@ impl PipelineBuilder {
         self
     }
 
-    /// Bowing weights trained with `violin-skeleton train bowing` (the stroke network or
-    /// the CNN, told apart by the file; default: the embedded stroke network).
+    /// Bowing weights trained with `violin-skeleton train bowing` or the `train_strokes`
+    /// example (the stroke network or the CNN, told apart by the file). The file's network
+    /// runs alone, with its own decoder: it is not averaged with the other network, and
+    /// [`PipelineBuilder::bowing_network`] is then not used. Default: the embedded model
+    /// that [`PipelineBuilder::bowing_network`] chooses (the ensemble).
     pub fn bowing_weights(mut self, path: impl Into<PathBuf>) -> Self {
         self.inner.bowing_weights = Some(path.into());
         self

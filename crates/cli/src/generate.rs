@@ -147,7 +147,9 @@ pub fn write_motion(
 #[derive(Debug, Clone, Default, Args)]
 pub struct AnalysisWeights {
     /// Bowing weights from `train bowing` or the `train_strokes` example: the stroke
-    /// network or the CNN, told apart by the file (default: embedded).
+    /// network or the CNN, told apart by the file. The file's network runs alone with its
+    /// own decoder (not averaged with the other; `--bowing-net` is then not used). Default:
+    /// the embedded model `--bowing-net` chooses.
     #[arg(long)]
     pub bowing_weights: Option<PathBuf>,
     /// The embedded bowing model: `ensemble` (the two below averaged), `strokes` (bow
