@@ -1,23 +1,15 @@
 //! beat-net's corpus loaders: the train and validation split of one corpus, and the train
 //! split alone of another (`train_beats --extra-train`).
 
-use corpus::build::{build_corpus, CorpusConfig};
-use corpus::etude::EtudeConfig;
 use corpus::manifest::Split;
 use violin_train::beat_data::{load_beat_corpus, load_beat_train_split};
+
+mod common;
 
 #[test]
 fn the_extra_train_split_holds_only_training_items() {
     let dir = tempfile::tempdir().unwrap();
-    let cfg = CorpusConfig {
-        minutes: 0.5,
-        etude: EtudeConfig {
-            target_s: 10.0,
-            ..EtudeConfig::default()
-        },
-        ..CorpusConfig::default()
-    };
-    build_corpus(dir.path(), &cfg, &|_, _| {}).unwrap();
+    common::build_tiny_corpus(dir.path(), 0);
     let manifest: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.path().join("manifest.json")).unwrap())
             .unwrap();

@@ -6,13 +6,13 @@ use std::path::Path;
 
 use bowing_net::data::{Recording, Splits};
 use bowing_net::{BowChangeDetector, TrainConfig};
-use corpus::build::{build_corpus, CorpusConfig};
-use corpus::etude::EtudeConfig;
 use ndarray::Array2;
 use net_core::checkpoint_path;
 use net_core::rng::Rng;
 use skeleton::{Joint, PoseLayout};
 use violin_train::bowing_data::{load_dataset, load_urmp};
+
+mod common;
 
 /// Noise with a loud broadband click at every change: learnable in a few steps.
 fn clicks(seed: u64, frames: usize) -> Recording {
@@ -144,15 +144,7 @@ fn training_rejects_unusable_data() {
 #[test]
 fn corpus_layout_loads_exact_labels_and_evaluates() {
     let dir = tempfile::tempdir().unwrap();
-    let cfg = CorpusConfig {
-        minutes: 0.5,
-        etude: EtudeConfig {
-            target_s: 10.0,
-            ..EtudeConfig::default()
-        },
-        ..CorpusConfig::default()
-    };
-    build_corpus(dir.path(), &cfg, &|_, _| {}).unwrap();
+    common::build_tiny_corpus(dir.path(), 0);
     let data = load_dataset(dir.path(), &|_, _| {}).unwrap();
     assert!(!data.train.is_empty() && !data.val.is_empty() && !data.test.is_empty());
     for r in data.train.iter().chain(&data.val).chain(&data.test) {

@@ -3,8 +3,6 @@
 
 use std::path::Path;
 
-use corpus::build::{build_corpus, CorpusConfig};
-use corpus::etude::EtudeConfig;
 use emotion_net::data::{ArousalSplits, ArousalTrack};
 use emotion_net::{ArousalEstimator, TrainConfig};
 use ndarray::Array2;
@@ -12,16 +10,10 @@ use violin_train::emotion_data::{
     load_corpus_with, load_dataset, load_deam, read_deam_arousal, CorpusTarget, DEAM_AROUSAL_CSV,
 };
 
+mod common;
+
 fn tiny_corpus(dir: &Path) {
-    let cfg = CorpusConfig {
-        minutes: 0.5,
-        etude: EtudeConfig {
-            target_s: 10.0,
-            ..EtudeConfig::default()
-        },
-        ..CorpusConfig::default()
-    };
-    build_corpus(dir, &cfg, &|_, _| {}).unwrap();
+    common::build_tiny_corpus(dir, 0);
 }
 
 fn quick_config(epochs: usize) -> TrainConfig {

@@ -4,25 +4,16 @@
 
 use std::path::Path;
 
-use corpus::build::{build_corpus, CorpusConfig};
-use corpus::etude::EtudeConfig;
 use gru_baseline::data::{DataLayout, Dataset};
 use gru_baseline::eval::evaluate;
 use gru_baseline::train::{checkpoint_path, train, TrainConfig, TrainEvent, TrainOptions};
 use gru_baseline::{Config, GruBaseline, GruError, Loss, StorageDtype};
 use violin_train::gru_data::load_dataset;
 
+mod common;
+
 fn tiny_corpus(dir: &Path) -> Dataset {
-    let cfg = CorpusConfig {
-        minutes: 0.5,
-        seed: 4,
-        etude: EtudeConfig {
-            target_s: 10.0,
-            ..EtudeConfig::default()
-        },
-        ..CorpusConfig::default()
-    };
-    build_corpus(dir, &cfg, &|_, _| {}).unwrap();
+    common::build_tiny_corpus(dir, 4);
     load_dataset(dir, &|_, _| {}).unwrap()
 }
 
