@@ -42,15 +42,15 @@ impl std::fmt::Debug for LoadedModels {
 }
 
 impl LoadedModels {
-    /// The bowing model: from `path` (either network, told by the file), or the embedded
-    /// default of `network`.
+    /// The bowing model: from `file` ([`networks::BowingFile`]), or the embedded default of
+    /// `network`.
     pub(crate) fn bowing(
         &self,
-        path: Option<&Path>,
+        file: Option<&networks::BowingFile>,
         network: networks::BowingNetwork,
     ) -> Result<Arc<BowingModel>> {
-        get(&self.bowing, || match path {
-            Some(p) => networks::load_bowing(p),
+        get(&self.bowing, || match file {
+            Some(f) => networks::load_bowing_file(f, network),
             None => networks::pretrained_bowing(network),
         })
     }

@@ -2,7 +2,7 @@
 //! beat/downbeat activation network, the arousal CRNN and the Method 1 GRU. The embedded
 //! defaults are loaded once per process and shared.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::{Arc, OnceLock};
 
 use beat_net::{Activations, BeatActivation};
@@ -29,6 +29,16 @@ fn load_err(path: &Path, e: impl std::fmt::Display) -> Error {
     } else {
         Error::Network(format!("{shown}: {message}"))
     }
+}
+
+/// A bowing weights file given to the pipeline, and how it is used.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) enum BowingFile {
+    /// Either network, run alone with its own decoder.
+    Alone(PathBuf),
+    /// A stroke network in place of the embedded one, inside the model a
+    /// [`BowingNetwork`] chooses.
+    Strokes(PathBuf),
 }
 
 /// Which embedded bowing model the pipeline uses when no weights file is given.
@@ -98,6 +108,29 @@ pub fn pretrained_gru() -> Result<Arc<GruBaseline>> {
     })
     .clone()
     .map_err(|e| net_err("embedded gru-baseline weights", e))
+}
+
+/// The bowing model of a weights file ([`BowingFile`]) and an embedded choice.
+pub(crate) fn load_bowing_file(
+    file: &BowingFile,
+    network: BowingNetwork,
+) -> Result<Arc<BowingModel>> {
+    let model =
+        match (file, network) {
+            (BowingFile::Alone(p), _) => return load_bowing(p),
+            (BowingFile::Strokes(p), BowingNetwork::Ensemble) => {
+                BowingModel::ensemble_with_strokes_file(p).map_err(|e| load_err(p, e))?
+            }
+            (BowingFile::Strokes(p), BowingNetwork::Strokes) => {
+                BowingModel::Strokes(BowingModel::strokes_file(p).map_err(|e| load_err(p, e))?)
+            }
+            (BowingFile::Strokes(p), BowingNetwork::Cnn) => return Err(load_err(
+                p,
+                "stroke-network weights were given, but the CNN alone was chosen, which has no \
+                 stroke network to replace (choose the ensemble or the stroke network)",
+            )),
+        };
+    Ok(Arc::new(model))
 }
 
 /// User-trained bowing weights (either network).

@@ -18,7 +18,7 @@ use crate::chunking::Chunking;
 use crate::error::{Error, Result};
 use crate::fingering_plan::{plan_notes, PlannerKind, SulSpan};
 use crate::models::LoadedModels;
-use crate::networks::{self, BowingNetwork};
+use crate::networks::{self, BowingFile, BowingNetwork};
 pub use crate::timings::StageTimings;
 
 /// How motion is made from the music.
@@ -70,7 +70,7 @@ pub struct Pipeline {
     transpose_into_range: bool,
     max_duration_s: Option<u32>,
     synth: SynthConfig,
-    bowing_weights: Option<PathBuf>,
+    bowing_file: Option<BowingFile>,
     bowing_network: BowingNetwork,
     emotion_weights: Option<PathBuf>,
     beat_weights: Option<PathBuf>,
@@ -149,14 +149,29 @@ impl PipelineBuilder {
     /// Bowing weights trained with `violin-skeleton train bowing` or the `train_strokes`
     /// example (the stroke network or the CNN, told apart by the file). The file's network
     /// runs alone, with its own decoder: it is not averaged with the other network, and
-    /// [`PipelineBuilder::bowing_network`] is then not used. Default: the embedded model
-    /// that [`PipelineBuilder::bowing_network`] chooses (the ensemble).
+    /// [`PipelineBuilder::bowing_network`] is then not used (to run a retrained stroke
+    /// network inside the ensemble, see [`PipelineBuilder::stroke_weights`]). Replaces an
+    /// earlier `stroke_weights`. Default: the embedded model that
+    /// [`PipelineBuilder::bowing_network`] chooses (the ensemble).
     pub fn bowing_weights(mut self, path: impl Into<PathBuf>) -> Self {
-        self.inner.bowing_weights = Some(path.into());
+        self.inner.bowing_file = Some(BowingFile::Alone(path.into()));
         self
     }
 
-    /// The embedded bowing model used when no weights file is given.
+    /// Stroke-network weights from the `train_strokes` example in place of the embedded
+    /// stroke network, inside the model [`PipelineBuilder::bowing_network`] chooses: with
+    /// [`BowingNetwork::Ensemble`] (the default) averaged with the embedded CNN and picked by
+    /// the file's ensemble decoder, exactly as the shipped model is; with
+    /// [`BowingNetwork::Strokes`] alone. With [`BowingNetwork::Cnn`], or a file without an
+    /// ensemble decoder for the ensemble, analysis fails with an error naming the file.
+    /// Replaces an earlier `bowing_weights`.
+    pub fn stroke_weights(mut self, path: impl Into<PathBuf>) -> Self {
+        self.inner.bowing_file = Some(BowingFile::Strokes(path.into()));
+        self
+    }
+
+    /// The embedded bowing model used when no weights file is given, or the model a
+    /// [`PipelineBuilder::stroke_weights`] file goes into.
     pub fn bowing_network(mut self, network: BowingNetwork) -> Self {
         self.inner.bowing_network = network;
         self
@@ -233,7 +248,7 @@ impl Pipeline {
     pub(crate) fn hears_directions(&self) -> Result<bool> {
         Ok(self
             .models
-            .bowing(self.bowing_weights.as_deref(), self.bowing_network)?
+            .bowing(self.bowing_file.as_ref(), self.bowing_network)?
             .direction_decoder()
             .is_some())
     }
@@ -281,7 +296,7 @@ impl Pipeline {
             let mel = networks::mel30(&analysed)?;
             let bowing = self
                 .models
-                .bowing(self.bowing_weights.as_deref(), self.bowing_network)?;
+                .bowing(self.bowing_file.as_ref(), self.bowing_network)?;
             let bowed = networks::bowing_of_mel(&bowing, mel.view())?;
             let activations = match self.beat_method {
                 BeatMethod::Learned => Some(networks::beat_activations(

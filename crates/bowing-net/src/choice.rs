@@ -69,6 +69,36 @@ impl BowingModel {
         Ok(Self::Cnn(BowChangeDetector::pretrained()?))
     }
 
+    /// The shipped CNN averaged with the stroke network of `path` (a `train_strokes` file
+    /// that carries an ensemble decoder), as [`BowingModel::pretrained`] averages it with the
+    /// shipped stroke network: how a retrained stroke network runs as the default model does.
+    pub fn ensemble_with_strokes_file(path: &Path) -> Result<Self> {
+        let strokes = Self::strokes_file(path)?;
+        if strokes.ensemble_decoder().is_none() {
+            return Err(NetError::weights(
+                path,
+                "carries no ensemble decoder, so it cannot be averaged with the CNN \
+                 (write one with `train_strokes … --eval FILE --write-ensemble`, or run the \
+                 stroke network alone)",
+            ));
+        }
+        Ok(Self::Ensemble(
+            Box::new(BowChangeDetector::pretrained()?),
+            strokes,
+        ))
+    }
+
+    /// The stroke network of `path`; a file of the CNN is refused.
+    pub fn strokes_file(path: &Path) -> Result<StrokeDetector> {
+        match Self::load(path)? {
+            Self::Strokes(d) => Ok(d),
+            _ => Err(NetError::weights(
+                path,
+                "holds the bow-change CNN (SPEC §4), not a stroke network",
+            )),
+        }
+    }
+
     /// Reads a weights file of either network, told apart by its `format` metadata.
     pub fn load(path: &Path) -> Result<Self> {
         let bytes = std::fs::read(path)

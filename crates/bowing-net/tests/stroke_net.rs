@@ -216,3 +216,44 @@ fn the_direction_decoder_travels_with_the_weights_and_uses_the_down_output() {
         vec![Down, Up]
     );
 }
+
+#[test]
+fn a_stroke_file_joins_the_cnn_as_the_shipped_one_does() {
+    let dir = tempfile::tempdir().unwrap();
+    let strokes = dir.path().join("s.safetensors");
+    detector().save(&strokes).unwrap();
+    // The shipped file, read back, averaged with the CNN: the shipped ensemble exactly.
+    let mel = Array2::from_shape_fn((200, 128), |(t, b)| {
+        -60.0 + 30.0 * (((t / 7) as f32 + b as f32 * 0.37).sin())
+    });
+    let shipped = BowingModel::pretrained().unwrap();
+    let given = BowingModel::ensemble_with_strokes_file(&strokes).unwrap();
+    assert!(matches!(given, BowingModel::Ensemble(..)));
+    let (a, b) = (
+        shipped.analyze_mel(mel.view()).unwrap(),
+        given.analyze_mel(mel.view()).unwrap(),
+    );
+    assert_eq!(a.bow_changes_s, b.bow_changes_s);
+    assert_eq!(a.frames.change, b.frames.change);
+    // Without an ensemble decoder it cannot be averaged: refused, naming the file.
+    let mut bare = detector();
+    bare.set_ensemble_decoder(None);
+    let no_decoder = dir.path().join("bare.safetensors");
+    bare.save(&no_decoder).unwrap();
+    let e = BowingModel::ensemble_with_strokes_file(&no_decoder)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("bare.safetensors") && e.contains("ensemble decoder"),
+        "{e}"
+    );
+    assert!(BowingModel::strokes_file(&no_decoder).is_ok());
+    // A CNN file is not a stroke network.
+    let cnn = dir.path().join("cnn.safetensors");
+    bowing_net::BowChangeDetector::pretrained()
+        .unwrap()
+        .save(&cnn)
+        .unwrap();
+    let e = BowingModel::strokes_file(&cnn).unwrap_err().to_string();
+    assert!(e.contains("cnn.safetensors") && e.contains("CNN"), "{e}");
+}

@@ -148,10 +148,17 @@ pub fn write_motion(
 pub struct AnalysisWeights {
     /// Bowing weights from `train bowing` or the `train_strokes` example: the stroke
     /// network or the CNN, told apart by the file. The file's network runs alone with its
-    /// own decoder (not averaged with the other; `--bowing-net` is then not used). Default:
+    /// own decoder (not averaged with the other; `--bowing-net` is then not used; to run a
+    /// retrained stroke network inside the ensemble, use `--stroke-weights`). Default:
     /// the embedded model `--bowing-net` chooses.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "stroke_weights")]
     pub bowing_weights: Option<PathBuf>,
+    /// Stroke-network weights from the `train_strokes` example in place of the embedded
+    /// stroke network, inside the model `--bowing-net` chooses: `ensemble` (default)
+    /// averages it with the embedded CNN by the file's ensemble decoder, as the shipped
+    /// model does; `strokes` runs it alone.
+    #[arg(long)]
+    pub stroke_weights: Option<PathBuf>,
     /// The embedded bowing model: `ensemble` (the two below averaged), `strokes` (bow
     /// changes and strings, trained on the many-violin corpus) or `cnn` (the seed design's
     /// bow-change CNN).
@@ -210,6 +217,9 @@ impl AnalysisWeights {
         if let Some(p) = &self.bowing_weights {
             v.push(named("--bowing-weights", p));
         }
+        if let Some(p) = &self.stroke_weights {
+            v.push(named("--stroke-weights", p));
+        }
         if let Some(p) = &self.emotion_weights {
             v.push(named("--emotion-weights", p));
         }
@@ -228,6 +238,9 @@ impl AnalysisWeights {
         });
         if let Some(p) = &self.bowing_weights {
             builder = builder.bowing_weights(p);
+        }
+        if let Some(p) = &self.stroke_weights {
+            builder = builder.stroke_weights(p);
         }
         if let Some(p) = &self.emotion_weights {
             builder = builder.emotion_weights(p);

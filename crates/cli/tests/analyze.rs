@@ -203,6 +203,75 @@ fn refused_naming(wav: &Path, out: &Path, flag: &str, file: &str, name: &str) {
 }
 
 #[test]
+fn stroke_weights_flag_replaces_the_embedded_stroke_network() {
+    let dir = tempfile::tempdir().unwrap();
+    let item = clean_etude(5, 12.0, (110.0, 110.0)).unwrap();
+    let wav = dir.path().join("etude.wav");
+    write_wav(&wav, &item.audio, 22_050);
+    let out = dir.path().join("a.json");
+    let weights_dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../bowing-net/weights");
+    let strokes = dir.path().join("stroke-net.safetensors");
+    std::fs::copy(weights_dir.join("stroke-net.safetensors"), &strokes).unwrap();
+    let cnn = dir.path().join("bowing-net.safetensors");
+    std::fs::copy(weights_dir.join("bowing-net.safetensors"), &cnn).unwrap();
+    let (strokes, cnn) = (strokes.to_str().unwrap(), cnn.to_str().unwrap());
+    let read = |out: &Path| -> Value {
+        serde_json::from_str(&std::fs::read_to_string(out).unwrap()).unwrap()
+    };
+
+    // The shipped stroke network given as a file, inside each model that has one, gives
+    // that model's result: the default ensemble, and the stroke network alone.
+    for net in ["ensemble", "strokes"] {
+        let st = analyze(&wav, &out, &["--quiet", "--bowing-net", net]);
+        assert!(st.status.success());
+        let embedded = read(&out);
+        assert!(!embedded["bow_changes_s"].as_array().unwrap().is_empty());
+        let st = analyze(
+            &wav,
+            &out,
+            &["--quiet", "--bowing-net", net, "--stroke-weights", strokes],
+        );
+        assert!(
+            st.status.success(),
+            "{}",
+            String::from_utf8_lossy(&st.stderr)
+        );
+        let given = read(&out);
+        assert_eq!(given["bow_changes_s"], embedded["bow_changes_s"], "{net}");
+        assert_eq!(given["bow_strokes"], embedded["bow_strokes"], "{net}");
+    }
+
+    // A CNN file, or the CNN alone chosen, is one readable error naming the file.
+    refused_naming(
+        &wav,
+        &out,
+        "--stroke-weights",
+        cnn,
+        "bowing-net.safetensors",
+    );
+    std::fs::remove_file(&out).ok();
+    let st = analyze(
+        &wav,
+        &out,
+        &["--bowing-net", "cnn", "--stroke-weights", strokes],
+    );
+    assert_eq!(st.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&st.stderr);
+    assert!(
+        err.starts_with("error:") && err.contains("stroke-net.safetensors"),
+        "{err}"
+    );
+    assert!(!out.exists());
+    // It cannot be given with --bowing-weights (a usage error).
+    let st = analyze(
+        &wav,
+        &out,
+        &["--bowing-weights", strokes, "--stroke-weights", strokes],
+    );
+    assert_eq!(st.status.code(), Some(2));
+}
+
+#[test]
 fn beat_weights_flag_loads_the_given_file() {
     let dir = tempfile::tempdir().unwrap();
     let item = clean_etude(3, 12.0, (100.0, 100.0)).unwrap();
