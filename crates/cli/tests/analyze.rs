@@ -202,12 +202,18 @@ fn refused_naming(wav: &Path, out: &Path, flag: &str, file: &str, name: &str) {
     assert!(!out.exists());
 }
 
+/// A 12 s corpus étude (seed `seed`, `bpm` throughout) written as `DIR/etude.wav`.
+fn etude_wav(dir: &Path, seed: u64, bpm: f64) -> std::path::PathBuf {
+    let item = clean_etude(seed, 12.0, (bpm, bpm)).unwrap();
+    let wav = dir.join("etude.wav");
+    write_wav(&wav, &item.audio, 22_050);
+    wav
+}
+
 #[test]
 fn stroke_weights_flag_replaces_the_embedded_stroke_network() {
     let dir = tempfile::tempdir().unwrap();
-    let item = clean_etude(5, 12.0, (110.0, 110.0)).unwrap();
-    let wav = dir.path().join("etude.wav");
-    write_wav(&wav, &item.audio, 22_050);
+    let wav = etude_wav(dir.path(), 5, 110.0);
     let out = dir.path().join("a.json");
     let weights_dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../bowing-net/weights");
     let strokes = dir.path().join("stroke-net.safetensors");
@@ -274,9 +280,7 @@ fn stroke_weights_flag_replaces_the_embedded_stroke_network() {
 #[test]
 fn beat_weights_flag_loads_the_given_file() {
     let dir = tempfile::tempdir().unwrap();
-    let item = clean_etude(3, 12.0, (100.0, 100.0)).unwrap();
-    let wav = dir.path().join("etude.wav");
-    write_wav(&wav, &item.audio, 22_050);
+    let wav = etude_wav(dir.path(), 3, 100.0);
     let out = dir.path().join("a.json");
     let st = analyze(&wav, &out, &["--quiet"]);
     assert!(st.status.success());
