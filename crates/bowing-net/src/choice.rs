@@ -16,6 +16,11 @@ use crate::stroke::{FrameOutputs, StrokeAnalysis, StrokeDetector, STROKE_FORMAT_
 /// The shipped stroke-network weights (see the crate README for how they were trained).
 static PRETRAINED_STROKES: &[u8] = include_bytes!("../weights/stroke-net.safetensors");
 
+/// The CNN the shipped ensemble averages with the stroke network: the seed design's CNN
+/// trained on the many-violin corpus (crate README, step 8). The CNN alone
+/// ([`BowChangeDetector::pretrained`]) keeps the weights trained on études.
+static PRETRAINED_ENSEMBLE_CNN: &[u8] = include_bytes!("../weights/ensemble-cnn.safetensors");
+
 /// A bowing model: bow changes (both) and strings (stroke network only).
 #[derive(Debug)]
 pub enum BowingModel {
@@ -43,7 +48,7 @@ impl BowingModel {
         let strokes = Self::pretrained_strokes()?;
         if strokes.ensemble_decoder().is_some() {
             Ok(Self::Ensemble(
-                Box::new(BowChangeDetector::pretrained()?),
+                Box::new(Self::pretrained_ensemble_cnn()?),
                 strokes,
             ))
         } else {
@@ -64,14 +69,24 @@ impl BowingModel {
         )
     }
 
-    /// The shipped CNN (SPEC §4).
+    /// The CNN of the shipped ensemble: the seed design's network (SPEC §4) trained on the
+    /// many-violin corpus, not the études [`BowChangeDetector::pretrained`] learnt from.
+    pub fn pretrained_ensemble_cnn() -> Result<BowChangeDetector> {
+        BowChangeDetector::from_bytes(
+            PRETRAINED_ENSEMBLE_CNN,
+            Path::new("<embedded ensemble CNN weights>"),
+        )
+    }
+
+    /// The shipped CNN (SPEC §4), trained on études.
     pub fn pretrained_cnn() -> Result<Self> {
         Ok(Self::Cnn(BowChangeDetector::pretrained()?))
     }
 
-    /// The shipped CNN averaged with the stroke network of `path` (a `train_strokes` file
-    /// that carries an ensemble decoder), as [`BowingModel::pretrained`] averages it with the
-    /// shipped stroke network: how a retrained stroke network runs as the default model does.
+    /// The shipped ensemble's CNN averaged with the stroke network of `path` (a
+    /// `train_strokes` file that carries an ensemble decoder), as [`BowingModel::pretrained`]
+    /// averages it with the shipped stroke network: how a retrained stroke network runs as
+    /// the default model does.
     pub fn ensemble_with_strokes_file(path: &Path) -> Result<Self> {
         let strokes = Self::strokes_file(path)?;
         if strokes.ensemble_decoder().is_none() {
@@ -83,7 +98,7 @@ impl BowingModel {
             ));
         }
         Ok(Self::Ensemble(
-            Box::new(BowChangeDetector::pretrained()?),
+            Box::new(Self::pretrained_ensemble_cnn()?),
             strokes,
         ))
     }

@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 
 use bowing_net::data::Recording;
 use bowing_net::metrics::{match_events, Counts};
-use bowing_net::{BowChangeDetector, BowingModel, Decoder};
+use bowing_net::{BowingModel, Decoder};
 use violin_train::bowing_data::load_dataset;
 
 type Error = Box<dyn std::error::Error>;
@@ -29,7 +29,7 @@ fn validation_items(dir: &Path) -> Result<Vec<Recording>, Error> {
 }
 
 fn members(recs: &[Recording]) -> Result<Members, Error> {
-    let cnn = BowChangeDetector::pretrained()?;
+    let cnn = BowingModel::pretrained_ensemble_cnn()?;
     let net = BowingModel::pretrained_strokes()?;
     recs.iter()
         .map(|r| {

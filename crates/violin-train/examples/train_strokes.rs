@@ -174,7 +174,9 @@ fn report(
         })
         .collect();
     let mut strokes = StrokeDetector::load(weights)?;
-    let cnn = BowChangeDetector::pretrained()?;
+    // The ensemble's CNN, and the seed design's CNN trained on études for its own column.
+    let cnn = BowingModel::pretrained_ensemble_cnn()?;
+    let seed_cnn = BowChangeDetector::pretrained()?;
     let mut by_set: BTreeMap<String, Vec<&Recording>> = BTreeMap::new();
     let mut by_violin: BTreeMap<String, Vec<&Recording>> = BTreeMap::new();
     for r in test {
@@ -238,7 +240,7 @@ fn report(
     // The analysis's model (the CNN and this network averaged) and its direction decoder,
     // chosen on the validation items.
     let model = BowingModel::Ensemble(
-        Box::new(BowChangeDetector::pretrained()?),
+        Box::new(BowingModel::pretrained_ensemble_cnn()?),
         StrokeDetector::load(weights).map(|mut s| {
             s.set_ensemble_decoder(Some(ensemble_decoder));
             s
@@ -285,7 +287,7 @@ fn report(
         };
         for r in recs {
             row.cnn.add(&match_events(
-                &cnn.detect_frames(r.mel_db.view())?,
+                &seed_cnn.detect_frames(r.mel_db.view())?,
                 &r.changes,
                 2,
             ));

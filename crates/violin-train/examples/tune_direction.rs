@@ -7,9 +7,11 @@
 //! probability of its own (0.05, 0.1, 0.2, 0.35) for changes inside runs of at least 5, 6
 //! or 8 frames of change probability at or above 0.65, the ensemble decoder's threshold
 //! (`bowing_net::stroke::direction::LongRunStay`).
+//! With `--cnn C.safetensors`, the ensemble's CNN is `C` instead of the shipped one (as in
+//! `validation_violin --cnn`).
 //!
 //! ```text
-//! cargo run --release -p violin-train --example tune_direction -- CORPUS [CORPUS2 …] W.safetensors [--long-runs] [--write]
+//! cargo run --release -p violin-train --example tune_direction -- CORPUS [CORPUS2 …] W.safetensors [--cnn C.safetensors] [--long-runs] [--write]
 //! ```
 
 use std::path::PathBuf;
@@ -24,12 +26,15 @@ use violin_train::stroke_directions::{
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let usage = "usage: tune_direction CORPUS [CORPUS2 …] W.safetensors [--long-runs] [--write]";
+    let usage =
+        "usage: tune_direction CORPUS [CORPUS2 …] W.safetensors [--cnn C.safetensors] [--long-runs] [--write]";
     // Corpora are folders, the weights a file.
+    let cnn_path = violin_train::example_args::flag_value(&args, "--cnn")?.map(PathBuf::from);
     let (corpora, weights): (Vec<PathBuf>, Vec<PathBuf>) = args
         .iter()
         .filter(|a| !a.starts_with("--"))
         .map(PathBuf::from)
+        .filter(|p| Some(p) != cnn_path.as_ref())
         .partition(|p| p.is_dir());
     let ([weights], false) = (weights.as_slice(), corpora.is_empty()) else {
         return Err(usage.into());
@@ -38,7 +43,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let write = args.iter().any(|a| a == "--write");
     let strokes = StrokeDetector::load(&weights)?;
     let stored = strokes.direction_decoder();
-    let model = BowingModel::Ensemble(Box::new(BowChangeDetector::pretrained()?), strokes);
+    let cnn = match &cnn_path {
+        Some(p) => BowChangeDetector::load(p)?,
+        None => BowingModel::pretrained_ensemble_cnn()?,
+    };
+    let model = BowingModel::Ensemble(Box::new(cnn), strokes);
     let pipeline = violin_skeleton::Pipeline::default();
     let mut cases = Vec::new();
     for dir in &corpora {

@@ -199,7 +199,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         Some(p) => Partner::Strokes(StrokeDetector::load(p)?),
         None => match &cnn_path {
             Some(p) => Partner::Cnn(BowChangeDetector::load(p)?),
-            None => Partner::Cnn(BowChangeDetector::pretrained()?),
+            None => Partner::Cnn(bowing_net::BowingModel::pretrained_ensemble_cnn()?),
         },
     };
     let names: Vec<String> = corpora[1..]
