@@ -17,6 +17,9 @@ pub fn run(args: &TrainArgs, report: &Reporter) -> Result<(), CliError> {
         return Err(CliError::Usage("--epochs must be at least 1".into()));
     }
     let mut inputs = vec![named("--data", &args.data)];
+    for extra in &args.extra_train {
+        inputs.push(named("--extra-train", extra));
+    }
     if let Some(p) = &args.config {
         inputs.push(named("--config", p));
     }
@@ -39,6 +42,11 @@ pub fn run(args: &TrainArgs, report: &Reporter) -> Result<(), CliError> {
     if args.config.is_some() && args.network == Network::Gru {
         return Err(CliError::Usage(
             "--config applies to bowing and emotion; gru takes its settings as flags".into(),
+        ));
+    }
+    if !args.extra_train.is_empty() && args.network != Network::Bowing {
+        return Err(CliError::Usage(
+            "--extra-train applies to bowing only".into(),
         ));
     }
     limit_candle_threads();
@@ -77,11 +85,18 @@ fn read_config<T: serde::de::DeserializeOwned + Default>(args: &TrainArgs) -> Re
 fn train_bowing(args: &TrainArgs, report: &Reporter) -> Result<(), CliError> {
     let t0 = Instant::now();
     let bar = loading_bar(report, "loading");
-    let data = violin_train::bowing_data::load_dataset(&args.data, &|done, total| {
+    let mut data = violin_train::bowing_data::load_dataset(&args.data, &|done, total| {
         bar.set_length(total as u64);
         bar.set_position(done as u64);
     })?;
     bar.finish_and_clear();
+    for extra in &args.extra_train {
+        let added = violin_train::bowing_data::add_training_violin(extra, &mut data)?;
+        report.line(&format!(
+            "{}: {added} training recordings added",
+            extra.display()
+        ));
+    }
     report.line(&format!(
         "{}: {} train, {} validation, {} test recordings loaded in {:.1} s",
         args.data.display(),
@@ -94,7 +109,11 @@ fn train_bowing(args: &TrainArgs, report: &Reporter) -> Result<(), CliError> {
     let cfg = TrainConfig {
         epochs: args.epochs.unwrap_or(defaults.epochs),
         seed: args.seed,
-        data_description: describe(&args.data),
+        data_description: std::iter::once(&args.data)
+            .chain(&args.extra_train)
+            .map(|d| describe(d))
+            .collect::<Vec<_>>()
+            .join(" + "),
         ..defaults
     };
     let bar = report.progress(0, "epoch");
@@ -251,6 +270,7 @@ mod tests {
             weighted: false,
             unweighted: false,
             config,
+            extra_train: Vec::new(),
         }
     }
 
