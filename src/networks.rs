@@ -36,9 +36,15 @@ fn load_err(path: &Path, e: impl std::fmt::Display) -> Error {
 pub(crate) enum BowingFile {
     /// Either network, run alone with its own decoder.
     Alone(PathBuf),
-    /// A stroke network in place of the embedded one, inside the model a
-    /// [`BowingNetwork`] chooses.
-    Strokes(PathBuf),
+    /// Parts of the model a [`BowingNetwork`] chooses from files: a stroke network in place
+    /// of the embedded one, the ensemble's CNN in place of the embedded one (`None` keeps
+    /// the embedded part).
+    Parts {
+        /// A `train_strokes` file.
+        strokes: Option<PathBuf>,
+        /// A `train bowing` file, for the ensemble only.
+        cnn: Option<PathBuf>,
+    },
 }
 
 /// Which embedded bowing model the pipeline uses when no weights file is given.
@@ -115,20 +121,30 @@ pub(crate) fn load_bowing_file(
     file: &BowingFile,
     network: BowingNetwork,
 ) -> Result<Arc<BowingModel>> {
+    let (strokes, cnn) = match file {
+        BowingFile::Alone(p) => return load_bowing(p),
+        BowingFile::Parts { strokes, cnn } => (strokes.as_deref(), cnn.as_deref()),
+    };
     let model =
-        match (file, network) {
-            (BowingFile::Alone(p), _) => return load_bowing(p),
-            (BowingFile::Strokes(p), BowingNetwork::Ensemble) => {
-                BowingModel::ensemble_with_strokes_file(p).map_err(|e| load_err(p, e))?
+        match (network, strokes, cnn) {
+            (BowingNetwork::Ensemble, _, _) => BowingModel::ensemble_from_files(cnn, strokes)
+                .map_err(|e| Error::Network(e.to_string()))?,
+            (_, _, Some(c)) => {
+                return Err(load_err(
+                    c,
+                    "ensemble-CNN weights were given, but the ensemble was not chosen (choose the \
+                 ensemble, or give the file as bowing weights to run the CNN alone)",
+                ))
             }
-            (BowingFile::Strokes(p), BowingNetwork::Strokes) => {
+            (BowingNetwork::Strokes, Some(p), None) => {
                 BowingModel::Strokes(BowingModel::strokes_file(p).map_err(|e| load_err(p, e))?)
             }
-            (BowingFile::Strokes(p), BowingNetwork::Cnn) => return Err(load_err(
+            (BowingNetwork::Cnn, Some(p), None) => return Err(load_err(
                 p,
                 "stroke-network weights were given, but the CNN alone was chosen, which has no \
                  stroke network to replace (choose the ensemble or the stroke network)",
             )),
+            (_, None, None) => return pretrained_bowing(network),
         };
     Ok(Arc::new(model))
 }

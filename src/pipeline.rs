@@ -151,7 +151,7 @@ impl PipelineBuilder {
     /// runs alone, with its own decoder: it is not averaged with the other network, and
     /// [`PipelineBuilder::bowing_network`] is then not used (to run a retrained stroke
     /// network inside the ensemble, see [`PipelineBuilder::stroke_weights`]). Replaces an
-    /// earlier `stroke_weights`. Default: the embedded model that
+    /// earlier `stroke_weights` or `ensemble_cnn_weights`. Default: the embedded model that
     /// [`PipelineBuilder::bowing_network`] chooses (the ensemble).
     pub fn bowing_weights(mut self, path: impl Into<PathBuf>) -> Self {
         self.inner.bowing_file = Some(BowingFile::Alone(path.into()));
@@ -166,7 +166,31 @@ impl PipelineBuilder {
     /// ensemble decoder for the ensemble, analysis fails with an error naming the file.
     /// Replaces an earlier `bowing_weights`.
     pub fn stroke_weights(mut self, path: impl Into<PathBuf>) -> Self {
-        self.inner.bowing_file = Some(BowingFile::Strokes(path.into()));
+        let cnn = match self.inner.bowing_file.take() {
+            Some(BowingFile::Parts { cnn, .. }) => cnn,
+            _ => None,
+        };
+        self.inner.bowing_file = Some(BowingFile::Parts {
+            strokes: Some(path.into()),
+            cnn,
+        });
+        self
+    }
+
+    /// Bow-change CNN weights from `violin-skeleton train bowing` in place of the embedded
+    /// ensemble's CNN, averaged with the stroke network (the embedded one, or a
+    /// [`PipelineBuilder::stroke_weights`] file) by the stroke network's ensemble decoder.
+    /// Only for [`BowingNetwork::Ensemble`]: with another network, or a stroke-network file,
+    /// analysis fails with an error naming the file. Replaces an earlier `bowing_weights`.
+    pub fn ensemble_cnn_weights(mut self, path: impl Into<PathBuf>) -> Self {
+        let strokes = match self.inner.bowing_file.take() {
+            Some(BowingFile::Parts { strokes, .. }) => strokes,
+            _ => None,
+        };
+        self.inner.bowing_file = Some(BowingFile::Parts {
+            strokes,
+            cnn: Some(path.into()),
+        });
         self
     }
 

@@ -88,19 +88,46 @@ impl BowingModel {
     /// averages it with the shipped stroke network: how a retrained stroke network runs as
     /// the default model does.
     pub fn ensemble_with_strokes_file(path: &Path) -> Result<Self> {
-        let strokes = Self::strokes_file(path)?;
-        if strokes.ensemble_decoder().is_none() {
-            return Err(NetError::weights(
+        Self::ensemble_from_files(None, Some(path))
+    }
+
+    /// The ensemble with either half from a file: `cnn` a `violin-skeleton train bowing`
+    /// file in place of [`BowingModel::pretrained_ensemble_cnn`], `strokes` a
+    /// `train_strokes` file (which must carry an ensemble decoder) in place of the shipped
+    /// stroke network; `None` keeps the shipped half. A file of the other network is refused
+    /// with its path.
+    pub fn ensemble_from_files(cnn: Option<&Path>, strokes: Option<&Path>) -> Result<Self> {
+        let strokes = match strokes {
+            Some(path) => {
+                let d = Self::strokes_file(path)?;
+                if d.ensemble_decoder().is_none() {
+                    return Err(NetError::weights(
+                        path,
+                        "carries no ensemble decoder, so it cannot be averaged with the CNN \
+                         (write one with `train_strokes … --eval FILE --write-ensemble`, or \
+                         run the stroke network alone)",
+                    ));
+                }
+                d
+            }
+            None => Self::pretrained_strokes()?,
+        };
+        let cnn = match cnn {
+            Some(path) => Self::cnn_file(path)?,
+            None => Self::pretrained_ensemble_cnn()?,
+        };
+        Ok(Self::Ensemble(Box::new(cnn), strokes))
+    }
+
+    /// The bow-change CNN of `path`; a file of the stroke network is refused.
+    pub fn cnn_file(path: &Path) -> Result<BowChangeDetector> {
+        match Self::load(path)? {
+            Self::Cnn(d) => Ok(d),
+            _ => Err(NetError::weights(
                 path,
-                "carries no ensemble decoder, so it cannot be averaged with the CNN \
-                 (write one with `train_strokes … --eval FILE --write-ensemble`, or run the \
-                 stroke network alone)",
-            ));
+                "holds a stroke network, not the bow-change CNN (SPEC §4)",
+            )),
         }
-        Ok(Self::Ensemble(
-            Box::new(Self::pretrained_ensemble_cnn()?),
-            strokes,
-        ))
     }
 
     /// The stroke network of `path`; a file of the CNN is refused.

@@ -257,3 +257,45 @@ fn a_stroke_file_joins_the_cnn_as_the_shipped_one_does() {
     let e = BowingModel::strokes_file(&cnn).unwrap_err().to_string();
     assert!(e.contains("cnn.safetensors") && e.contains("CNN"), "{e}");
 }
+
+#[test]
+fn a_cnn_file_joins_the_stroke_network_as_the_shipped_one_does() {
+    let dir = tempfile::tempdir().unwrap();
+    let mel = Array2::from_shape_fn((200, 128), |(t, b)| {
+        -60.0 + 30.0 * (((t / 5) as f32 + b as f32 * 0.21).cos())
+    });
+    let changes = |m: &BowingModel| m.analyze_mel(mel.view()).unwrap().frames.change;
+    // The shipped ensemble CNN, written out and read back: the shipped ensemble exactly.
+    let shipped_cnn = dir.path().join("ensemble-cnn.safetensors");
+    BowingModel::pretrained_ensemble_cnn()
+        .unwrap()
+        .save(&shipped_cnn)
+        .unwrap();
+    let shipped = changes(&BowingModel::pretrained().unwrap());
+    let given = BowingModel::ensemble_from_files(Some(&shipped_cnn), None).unwrap();
+    assert_eq!(changes(&given), shipped);
+    // Another CNN (the one trained on études) changes the averaged probabilities.
+    let etude_cnn = dir.path().join("etude-cnn.safetensors");
+    bowing_net::BowChangeDetector::pretrained()
+        .unwrap()
+        .save(&etude_cnn)
+        .unwrap();
+    let other = BowingModel::ensemble_from_files(Some(&etude_cnn), None).unwrap();
+    assert_ne!(changes(&other), shipped);
+    // A stroke-network file is not a CNN: refused, naming the file.
+    let strokes = dir.path().join("s.safetensors");
+    detector().save(&strokes).unwrap();
+    let e = BowingModel::ensemble_from_files(Some(&strokes), None)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("s.safetensors") && e.contains("not the bow-change CNN"),
+        "{e}"
+    );
+    // Both halves from files.
+    let both = BowingModel::ensemble_from_files(Some(&shipped_cnn), Some(&strokes)).unwrap();
+    assert_eq!(
+        changes(&both),
+        changes(&BowingModel::ensemble_with_strokes_file(&strokes).unwrap())
+    );
+}

@@ -159,6 +159,12 @@ pub struct AnalysisWeights {
     /// model does; `strokes` runs it alone.
     #[arg(long)]
     pub stroke_weights: Option<PathBuf>,
+    /// Bow-change CNN weights from `train bowing` in place of the embedded ensemble's CNN,
+    /// averaged with the stroke network (the embedded one or `--stroke-weights`) as the
+    /// shipped model does. Only with `--bowing-net ensemble`; to run a CNN file alone, give
+    /// it as `--bowing-weights`.
+    #[arg(long, conflicts_with = "bowing_weights")]
+    pub ensemble_cnn_weights: Option<PathBuf>,
     /// The embedded bowing model: `ensemble` (the two below averaged), `strokes` (bow
     /// changes and strings, trained on the many-violin corpus) or `cnn` (the seed design's
     /// bow-change CNN).
@@ -220,6 +226,9 @@ impl AnalysisWeights {
         if let Some(p) = &self.stroke_weights {
             v.push(named("--stroke-weights", p));
         }
+        if let Some(p) = &self.ensemble_cnn_weights {
+            v.push(named("--ensemble-cnn-weights", p));
+        }
         if let Some(p) = &self.emotion_weights {
             v.push(named("--emotion-weights", p));
         }
@@ -241,6 +250,9 @@ impl AnalysisWeights {
         }
         if let Some(p) = &self.stroke_weights {
             builder = builder.stroke_weights(p);
+        }
+        if let Some(p) = &self.ensemble_cnn_weights {
+            builder = builder.ensemble_cnn_weights(p);
         }
         if let Some(p) = &self.emotion_weights {
             builder = builder.emotion_weights(p);

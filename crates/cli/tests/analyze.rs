@@ -275,6 +275,80 @@ fn stroke_weights_flag_replaces_the_embedded_stroke_network() {
 }
 
 #[test]
+fn ensemble_cnn_weights_flag_replaces_the_embedded_ensemble_cnn() {
+    let dir = tempfile::tempdir().unwrap();
+    let wav = etude_wav(dir.path(), 6, 96.0);
+    let out = dir.path().join("a.json");
+    let weights_dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../bowing-net/weights");
+    let copy = |name: &str| {
+        let p = dir.path().join(name);
+        std::fs::copy(weights_dir.join(name), &p).unwrap();
+        p.to_str().unwrap().to_string()
+    };
+    let (ens_cnn, strokes) = (
+        copy("ensemble-cnn.safetensors"),
+        copy("stroke-net.safetensors"),
+    );
+    let changes = |args: &[&str]| -> Value {
+        let st = analyze(&wav, &out, args);
+        assert!(
+            st.status.success(),
+            "{}",
+            String::from_utf8_lossy(&st.stderr)
+        );
+        let v: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+        v["bow_changes_s"].clone()
+    };
+    // The embedded ensemble CNN given as a file (alone, and with the stroke network as a
+    // file too) gives the default model's bow changes.
+    let embedded = changes(&["--quiet"]);
+    assert!(!embedded.as_array().unwrap().is_empty());
+    assert_eq!(
+        changes(&["--quiet", "--ensemble-cnn-weights", &ens_cnn]),
+        embedded
+    );
+    assert_eq!(
+        changes(&[
+            "--quiet",
+            "--ensemble-cnn-weights",
+            &ens_cnn,
+            "--stroke-weights",
+            &strokes
+        ]),
+        embedded
+    );
+    // A stroke-network file, or a model without the ensemble, is one error naming the file.
+    refused_naming(
+        &wav,
+        &out,
+        &["--ensemble-cnn-weights", &strokes],
+        "stroke-net.safetensors",
+    );
+    refused_naming(
+        &wav,
+        &out,
+        &[
+            "--bowing-net",
+            "strokes",
+            "--ensemble-cnn-weights",
+            &ens_cnn,
+        ],
+        "ensemble-cnn.safetensors",
+    );
+    let st = analyze(
+        &wav,
+        &out,
+        &[
+            "--bowing-weights",
+            &ens_cnn,
+            "--ensemble-cnn-weights",
+            &ens_cnn,
+        ],
+    );
+    assert_eq!(st.status.code(), Some(2));
+}
+
+#[test]
 fn beat_weights_flag_loads_the_given_file() {
     let dir = tempfile::tempdir().unwrap();
     let wav = etude_wav(dir.path(), 3, 100.0);
