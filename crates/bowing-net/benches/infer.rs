@@ -1,6 +1,7 @@
 //! Inference cost: the CNN's frame probabilities (stride 1) over 180 s of mel frames (5 400
 //! windows), the stroke network's and the default ensemble's whole analysis of the same
-//! 180 s, and one CNN training step of the default settings.
+//! 180 s, and one CNN training step of the default settings. With
+//! `BOWING_BENCH_ENSEMBLE_CNN=FILE`, also the ensemble with that file's CNN.
 #![allow(clippy::unwrap_used, clippy::expect_used, missing_docs)]
 
 use bowing_net::infer::frame_probabilities;
@@ -37,6 +38,15 @@ fn bench(c: &mut Criterion) {
     group.bench_function("default_ensemble_analyze_180s", |b| {
         b.iter(|| ensemble.analyze_mel(mel.view()).unwrap())
     });
+    // A candidate CNN for the ensemble (`train bowing` weights), timed beside the shipped one
+    // when `BOWING_BENCH_ENSEMBLE_CNN` names its file.
+    if let Some(path) = std::env::var_os("BOWING_BENCH_ENSEMBLE_CNN") {
+        let candidate =
+            bowing_net::BowingModel::ensemble_from_files(Some(path.as_ref()), None).unwrap();
+        group.bench_function("candidate_cnn_ensemble_analyze_180s", |b| {
+            b.iter(|| candidate.analyze_mel(mel.view()).unwrap())
+        });
+    }
 
     // One training step of the default settings: forward through the phase tree in
     // training mode (dropout on) and backward.
