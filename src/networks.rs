@@ -47,6 +47,25 @@ pub(crate) enum BowingFile {
     },
 }
 
+impl BowingFile {
+    /// Parts from files: the given ones replace those of `old` (if it gave parts), the
+    /// others are kept; a file run alone is dropped.
+    pub(crate) fn with_parts(
+        old: Option<Self>,
+        strokes: Option<PathBuf>,
+        cnn: Option<PathBuf>,
+    ) -> Self {
+        let (old_strokes, old_cnn) = match old {
+            Some(Self::Parts { strokes, cnn }) => (strokes, cnn),
+            _ => (None, None),
+        };
+        Self::Parts {
+            strokes: strokes.or(old_strokes),
+            cnn: cnn.or(old_cnn),
+        }
+    }
+}
+
 /// Which embedded bowing model the pipeline uses when no weights file is given.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum BowingNetwork {

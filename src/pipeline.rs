@@ -166,14 +166,8 @@ impl PipelineBuilder {
     /// ensemble decoder for the ensemble, analysis fails with an error naming the file.
     /// Replaces an earlier `bowing_weights`.
     pub fn stroke_weights(mut self, path: impl Into<PathBuf>) -> Self {
-        let cnn = match self.inner.bowing_file.take() {
-            Some(BowingFile::Parts { cnn, .. }) => cnn,
-            _ => None,
-        };
-        self.inner.bowing_file = Some(BowingFile::Parts {
-            strokes: Some(path.into()),
-            cnn,
-        });
+        let old = self.inner.bowing_file.take();
+        self.inner.bowing_file = Some(BowingFile::with_parts(old, Some(path.into()), None));
         self
     }
 
@@ -183,14 +177,8 @@ impl PipelineBuilder {
     /// Only for [`BowingNetwork::Ensemble`]: with another network, or a stroke-network file,
     /// analysis fails with an error naming the file. Replaces an earlier `bowing_weights`.
     pub fn ensemble_cnn_weights(mut self, path: impl Into<PathBuf>) -> Self {
-        let strokes = match self.inner.bowing_file.take() {
-            Some(BowingFile::Parts { strokes, .. }) => strokes,
-            _ => None,
-        };
-        self.inner.bowing_file = Some(BowingFile::Parts {
-            strokes,
-            cnn: Some(path.into()),
-        });
+        let old = self.inner.bowing_file.take();
+        self.inner.bowing_file = Some(BowingFile::with_parts(old, None, Some(path.into())));
         self
     }
 
