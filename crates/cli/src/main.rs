@@ -23,6 +23,7 @@ mod train;
 mod train_args;
 mod train_gru;
 mod train_io;
+mod weight_args;
 
 use std::process::ExitCode;
 
