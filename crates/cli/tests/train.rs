@@ -178,7 +178,9 @@ fn extra_training_corpora_join_the_training_split() {
     assert_eq!(o.status.code(), Some(1));
     let stderr = String::from_utf8_lossy(&o.stderr);
     assert!(
-        stderr.starts_with("error: ") && stderr.lines().count() == 1,
+        stderr.starts_with("error: ")
+            && stderr.lines().count() == 1
+            && stderr.contains("manifest.json"),
         "{stderr}"
     );
     assert!(!dir.path().join("x.safetensors").exists());
