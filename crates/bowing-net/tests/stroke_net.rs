@@ -162,6 +162,7 @@ fn the_direction_decoder_travels_with_the_weights_and_uses_the_down_output() {
             threshold: 0.65,
             stay_probability: 0.2,
         }),
+        choice: bowing_net::stroke::direction::DirectionChoice::MostProbablePerStroke,
     };
     d.set_direction_decoder(Some(decoder));
     let back = StrokeDetector::from_bytes(&d.to_bytes().unwrap(), Path::new("w")).unwrap();

@@ -8,7 +8,8 @@
 //! or 8 frames of change probability at or above 0.65, the ensemble decoder's threshold
 //! (`bowing_net::stroke::direction::LongRunStay`).
 //! With `--cnn C.safetensors`, the ensemble's CNN is `C` instead of the shipped one (as in
-//! `validation_violin --cnn`).
+//! `validation_violin --cnn`). The best decoder of each `DirectionChoice` (the most
+//! probable sequence, the most probable direction per stroke) is printed too.
 //!
 //! ```text
 //! cargo run --release -p violin-train --example tune_direction -- CORPUS [CORPUS2 …] W.safetensors [--cnn C.safetensors] [--long-runs] [--write]
@@ -16,12 +17,12 @@
 
 use std::path::PathBuf;
 
-use bowing_net::stroke::direction::LongRunStay;
+use bowing_net::stroke::direction::{DirectionChoice, DirectionDecoder, LongRunStay};
 use bowing_net::stroke::StrokeDetector;
 use bowing_net::{BowChangeDetector, BowingModel};
 use violin_train::bowing_data::load_dataset;
 use violin_train::stroke_directions::{
-    direction_case, pooled_accuracy, tune_direction_decoder, tune_direction_decoder_with,
+    direction_case, pooled_accuracy, tune_direction_decoder_with, BOTH_CHOICES,
 };
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -56,8 +57,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             cases.push(direction_case(r, &audio, &model, &pipeline)?);
         }
     }
-    let (tuned, accuracy) = if args.iter().any(|a| a == "--long-runs") {
-        let mut options = vec![None];
+    let mut options = vec![None];
+    if args.iter().any(|a| a == "--long-runs") {
         for min_frames in [5, 6, 8] {
             for stay_probability in [0.05f32, 0.1, 0.2, 0.35] {
                 options.push(Some(LongRunStay {
@@ -67,12 +68,25 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 }));
             }
         }
-        tune_direction_decoder_with(&cases, &options)
+    }
+    // The best of each choice; the sequence wins ties, as in `tune_direction_decoder`.
+    let [sequence, per_stroke] =
+        BOTH_CHOICES.map(|choice| tune_direction_decoder_with(&cases, &options, &[choice]));
+    for (choice, (best, acc)) in BOTH_CHOICES.iter().zip([sequence, per_stroke]) {
+        println!("best with {choice:?}: {best:?}: {acc:.4}");
+    }
+    if let Some(stored) = stored {
+        let choice = DirectionChoice::MostProbablePerStroke;
+        let acc = pooled_accuracy(&cases, Some(DirectionDecoder { choice, ..stored }));
+        println!("stored decoder with {choice:?}: {acc:.4}");
+    }
+    let (tuned, accuracy) = if per_stroke.1 > sequence.1 {
+        per_stroke
     } else {
-        tune_direction_decoder(&cases)
+        sequence
     };
     println!(
-        "{} validation items: stored {stored:?}: {:.3}; rules alone {:.3}; re-tuned {tuned:?}: {accuracy:.3}",
+        "{} validation items: stored {stored:?}: {:.4}; rules alone {:.4}; re-tuned {tuned:?}: {accuracy:.4}",
         cases.len(),
         pooled_accuracy(&cases, stored),
         pooled_accuracy(&cases, None)

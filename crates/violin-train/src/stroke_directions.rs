@@ -7,7 +7,7 @@
 //! stroke's midpoint must have its direction.
 
 use bowing_net::data::Recording;
-use bowing_net::stroke::direction::{DirectionDecoder, LongRunStay};
+use bowing_net::stroke::direction::{DirectionChoice, DirectionDecoder, LongRunStay};
 use bowing_net::BowingModel;
 use performance::{strokes_of, BowStroke, Note};
 use rayon::prelude::*;
@@ -82,33 +82,44 @@ pub fn pooled_accuracy(cases: &[DirectionCase], decoder: Option<DirectionDecoder
 }
 
 /// The decoder with the best pooled accuracy on `cases` (validation items only) over a
-/// grid of network, rule, downbeat and beat weights and stay probabilities, and its
-/// accuracy; the rules alone (`None`) when nothing beats them.
+/// grid of network, rule, downbeat and beat weights, stay probabilities and both
+/// [`DirectionChoice`]s (the sequence first, so it wins ties), and its accuracy; the rules
+/// alone (`None`) when nothing beats them.
 pub fn tune_direction_decoder(cases: &[DirectionCase]) -> (Option<DirectionDecoder>, f64) {
-    tune_direction_decoder_with(cases, &[None])
+    tune_direction_decoder_with(cases, &[None], &BOTH_CHOICES)
 }
 
-/// [`tune_direction_decoder`] with each of `long_runs` tried too (`None`: one stay
-/// probability for every change).
+/// Both [`DirectionChoice`]s, the sequence first.
+pub const BOTH_CHOICES: [DirectionChoice; 2] = [
+    DirectionChoice::MostProbableSequence,
+    DirectionChoice::MostProbablePerStroke,
+];
+
+/// [`tune_direction_decoder`] with each of `long_runs` tried (`None`: one stay probability
+/// for every change) and only the given `choices`.
 pub fn tune_direction_decoder_with(
     cases: &[DirectionCase],
     long_runs: &[Option<LongRunStay>],
+    choices: &[DirectionChoice],
 ) -> (Option<DirectionDecoder>, f64) {
     let mut grid = Vec::new();
-    for &long in long_runs {
-        for net_weight in [0.0f32, 0.25, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0] {
-            for rule_weight in [0.0f32, 0.25, 0.5, 1.0] {
-                for stay_probability in [0.02f32, 0.05, 0.1, 0.2] {
-                    for downbeat_weight in [0.0f32, 1.0, 2.0, 3.0, 4.0] {
-                        for beat_weight in [0.0f32, 0.3, 0.6, 1.0] {
-                            grid.push(DirectionDecoder {
-                                net_weight,
-                                rule_weight,
-                                stay_probability,
-                                downbeat_weight,
-                                beat_weight,
-                                long_runs: long,
-                            });
+    for &choice in choices {
+        for &long in long_runs {
+            for net_weight in [0.0f32, 0.25, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0] {
+                for rule_weight in [0.0f32, 0.25, 0.5, 1.0] {
+                    for stay_probability in [0.02f32, 0.05, 0.1, 0.2] {
+                        for downbeat_weight in [0.0f32, 1.0, 2.0, 3.0, 4.0] {
+                            for beat_weight in [0.0f32, 0.3, 0.6, 1.0] {
+                                grid.push(DirectionDecoder {
+                                    net_weight,
+                                    rule_weight,
+                                    stay_probability,
+                                    downbeat_weight,
+                                    beat_weight,
+                                    long_runs: long,
+                                    choice,
+                                });
+                            }
                         }
                     }
                 }

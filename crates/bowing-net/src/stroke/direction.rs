@@ -22,6 +22,8 @@
 use performance::BowDirection;
 use serde::{Deserialize, Serialize};
 
+pub use super::direction_choice::DirectionChoice;
+use super::direction_choice::{most_probable_per_stroke, most_probable_sequence};
 use super::long_runs::keep_flip_log_probabilities;
 pub use super::long_runs::LongRunStay;
 
@@ -46,6 +48,11 @@ pub struct DirectionDecoder {
     /// written before it existed.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub long_runs: Option<LongRunStay>,
+    /// Whether the decoder reports the most probable sequence of directions (Viterbi) or
+    /// each stroke's most probable direction (forward–backward). Absent from files written
+    /// before it existed, which decode the sequence.
+    #[serde(default, skip_serializing_if = "DirectionChoice::is_sequence")]
+    pub choice: DirectionChoice,
 }
 
 /// Where a stroke starts in the bar, as heard: on a downbeat, on another beat, or between
@@ -97,6 +104,7 @@ impl Default for DirectionDecoder {
             downbeat_weight: 0.0,
             beat_weight: 0.0,
             long_runs: None,
+            choice: DirectionChoice::MostProbableSequence,
         }
     }
 }
@@ -220,11 +228,34 @@ impl DirectionDecoder {
         places: &[BeatPlace],
         flips: &[(f32, f32)],
     ) -> Vec<BowDirection> {
-        let n = evidence.len().min(rules.len());
-        if n == 0 {
-            return Vec::new();
-        }
+        let emissions = self.emissions(evidence, rules, places);
         let default_flip = self.default_flip();
+        let flip_at = |k: usize| flips.get(k).copied().unwrap_or(default_flip);
+        let down = match self.choice {
+            DirectionChoice::MostProbableSequence => most_probable_sequence(&emissions, flip_at),
+            DirectionChoice::MostProbablePerStroke => most_probable_per_stroke(&emissions, flip_at),
+        };
+        down.into_iter()
+            .map(|d| {
+                if d {
+                    BowDirection::Down
+                } else {
+                    BowDirection::Up
+                }
+            })
+            .collect()
+    }
+
+    /// Each stroke's `[down, up]` log-score: the network's evidence, the rules' direction
+    /// and the bonus for a down-bow where the stroke starts (one entry per stroke of the
+    /// shorter of `evidence` and `rules`).
+    fn emissions(
+        &self,
+        evidence: &[f32],
+        rules: &[BowDirection],
+        places: &[BeatPlace],
+    ) -> Vec<[f32; 2]> {
+        let n = evidence.len().min(rules.len());
         let emit = |k: usize, dir: BowDirection| -> f32 {
             let odds = if evidence[k].is_finite() {
                 evidence[k]
@@ -247,34 +278,9 @@ impl DirectionDecoder {
             };
             self.net_weight * net + rule + place
         };
-        const STATES: [BowDirection; 2] = [BowDirection::Down, BowDirection::Up];
-        let mut score = [emit(0, STATES[0]), emit(0, STATES[1])];
-        let mut back: Vec<[u8; 2]> = Vec::with_capacity(n);
-        back.push([0, 1]);
-        for k in 1..n {
-            let (log_stay, log_flip) = flips.get(k).copied().unwrap_or(default_flip);
-            let mut next = [0.0f32; 2];
-            let mut from = [0u8; 2];
-            for (s, state) in STATES.iter().enumerate() {
-                let via_same = score[s] + log_stay;
-                let via_other = score[1 - s] + log_flip;
-                (next[s], from[s]) = if via_same >= via_other {
-                    (via_same, s as u8)
-                } else {
-                    (via_other, (1 - s) as u8)
-                };
-                next[s] += emit(k, *state);
-            }
-            score = next;
-            back.push(from);
-        }
-        let mut s = usize::from(score[1] > score[0]);
-        let mut out = vec![BowDirection::Down; n];
-        for k in (0..n).rev() {
-            out[k] = STATES[s];
-            s = usize::from(back[k][s]);
-        }
-        out
+        (0..n)
+            .map(|k| [emit(k, BowDirection::Down), emit(k, BowDirection::Up)])
+            .collect()
     }
 }
 
@@ -318,7 +324,7 @@ mod tests {
             stay_probability: 0.05,
             downbeat_weight: 4.0,
             beat_weight: 0.0,
-            long_runs: None,
+            ..Default::default()
         };
         // Both downbeats down costs one kept direction (a missed change) between them.
         let places = [Between, Downbeat, Between, Between, Downbeat];
@@ -361,6 +367,7 @@ mod tests {
             downbeat_weight: 4.0,
             beat_weight: 0.0,
             long_runs: Some(long),
+            ..Default::default()
         };
         let flips = long.flips(&change, &frames, d.default_flip());
         assert_eq!(flips[0], d.default_flip());

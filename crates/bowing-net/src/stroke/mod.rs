@@ -14,6 +14,7 @@
 pub mod decode;
 mod detector;
 pub mod direction;
+mod direction_choice;
 mod input;
 mod long_runs;
 #[cfg(feature = "train")]
