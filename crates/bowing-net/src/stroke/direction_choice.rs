@@ -152,6 +152,23 @@ mod tests {
     }
 
     #[test]
+    fn files_without_a_choice_decode_the_sequence() {
+        use crate::stroke::direction::DirectionDecoder;
+        let old = r#"{"net_weight":1.0,"rule_weight":0.0,"stay_probability":0.02}"#;
+        let d: DirectionDecoder = serde_json::from_str(old).unwrap();
+        assert_eq!(d.choice, DirectionChoice::MostProbableSequence);
+        // The default is not written, so such a file reads back the same.
+        assert!(!serde_json::to_string(&d).unwrap().contains("choice"));
+        let per_stroke = DirectionDecoder {
+            choice: DirectionChoice::MostProbablePerStroke,
+            ..d
+        };
+        let text = serde_json::to_string(&per_stroke).unwrap();
+        assert!(text.contains(r#""choice":"most_probable_per_stroke""#), "{text}");
+        assert_eq!(serde_json::from_str::<DirectionDecoder>(&text).unwrap(), per_stroke);
+    }
+
+    #[test]
     fn both_agree_when_the_evidence_is_consistent_and_handle_empty_input() {
         let emissions: Vec<[f32; 2]> = (0..9)
             .map(|k| if k % 2 == 0 { [2.0, 0.0] } else { [0.0, 2.0] })
