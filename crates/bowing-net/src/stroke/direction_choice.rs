@@ -164,8 +164,14 @@ mod tests {
             ..d
         };
         let text = serde_json::to_string(&per_stroke).unwrap();
-        assert!(text.contains(r#""choice":"most_probable_per_stroke""#), "{text}");
-        assert_eq!(serde_json::from_str::<DirectionDecoder>(&text).unwrap(), per_stroke);
+        assert!(
+            text.contains(r#""choice":"most_probable_per_stroke""#),
+            "{text}"
+        );
+        assert_eq!(
+            serde_json::from_str::<DirectionDecoder>(&text).unwrap(),
+            per_stroke
+        );
     }
 
     #[test]
