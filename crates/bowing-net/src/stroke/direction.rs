@@ -1,5 +1,5 @@
 //! Stroke directions from the network's down-bow output, the bars and the bowing rules,
-//! decoded as one consistent sequence.
+//! decoded over all strokes at once.
 //!
 //! A two-state (down, up) hidden Markov model over the strokes: the direction flips at a
 //! bow change, except with probability [`DirectionDecoder::stay_probability`] (a missed
@@ -15,9 +15,11 @@
 //!   [`DirectionDecoder::beat_weight`] when the stroke starts on a decoded downbeat or beat
 //!   ([`beat_places`]): players plan their bowing so that bars start down-bow.
 //!
-//! Viterbi finds the most probable sequence, so the bars put the bow back in phase after a
-//! missed change instead of letting it flip the rest of the piece. The weights are chosen
-//! on validation data and stored with the network's weights.
+//! Decoding all strokes together lets the bars put the bow back in phase after a missed
+//! change instead of letting it flip the rest of the piece. The decoder reports either the
+//! most probable sequence (Viterbi) or each stroke's most probable direction
+//! (forward–backward; [`DirectionChoice`], the shipped weights' choice). The weights and
+//! the choice are made on validation data and stored with the network's weights.
 
 use performance::BowDirection;
 use serde::{Deserialize, Serialize};

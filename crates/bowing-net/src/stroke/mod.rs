@@ -7,8 +7,8 @@
 //!   `forward_t`);
 //! * [`decode`]: played stretches (level and tonality), bow changes inside them, the
 //!   string of a span;
-//! * [`direction`]: stroke directions from the down-bow output and the bowing rules, one
-//!   consistent sequence ([`StrokeAnalysis::directions`]);
+//! * [`direction`]: stroke directions from the down-bow output, the bars and the bowing
+//!   rules, decoded over all strokes at once ([`StrokeAnalysis::directions`]);
 //! * [`StrokeDetector`]: weights + normalisation + decoder in one safetensors file.
 
 pub mod decode;
