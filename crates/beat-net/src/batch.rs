@@ -8,7 +8,7 @@ use net_core::rng::Rng;
 
 use crate::data::Recording;
 use crate::error::Result;
-use crate::features::{frame_features, FPS};
+use crate::features::{frame_features, EXTRA_FEATURES, FPS, RANGE_DB};
 
 /// The mel level (dB) of digital silence in a quiet crop (what the analysis front end gives
 /// for zeros, and what the pretrained test feeds the network).
@@ -201,6 +201,50 @@ pub fn quiet_crop(frames: usize, bands: usize, rng: &mut Rng) -> Result<Crop> {
     })
 }
 
+/// Hears a crop of input frames (`features` values per frame: the mel bands, then the flux and
+/// the loudest band, as [`frame_features`] makes them) through a fixed equaliser `curve` (dB
+/// per band, e.g. [`net_core::frames::random_eq_curve`]): a violin or a recording chain the
+/// corpus lacks. Bands at the floor (−[`RANGE_DB`]) stay there; the crop moves as a whole so
+/// that its loudest frame keeps its level (the input is relative to the recording's loudest
+/// frames), values stay within ±[`RANGE_DB`], and the loudest band is recomputed. The flux is
+/// kept: a fixed gain per band does not change how a band rises from frame to frame. Nothing
+/// happens when `curve` does not have one value per band.
+///
+/// ```
+/// // Two frames of 3 bands, flux and loudest band (dB/10).
+/// let mut crop = [-10.0f32, -20.0, -80.0, 0.0, -1.0, -30.0, -5.0, -80.0, 2.0, -0.5];
+/// beat_net::batch::equalise(&mut crop, 5, &[0.0, 10.0, 6.0]);
+/// // Band 1 gains 10 dB; the loudest frame (−5 → +5 dB) is moved back to −5 dB.
+/// assert_eq!(crop, [-20.0, -20.0, -80.0, 0.0, -2.0, -40.0, -5.0, -80.0, 2.0, -0.5]);
+/// ```
+pub fn equalise(crop: &mut [f32], features: usize, curve: &[f32]) {
+    let bands = features.saturating_sub(EXTRA_FEATURES);
+    if bands == 0 || curve.len() != bands {
+        return;
+    }
+    let floor = -RANGE_DB;
+    let loudest = |crop: &[f32]| {
+        crop.chunks_exact(features)
+            .flat_map(|row| row[..bands].iter().copied())
+            .fold(floor, f32::max)
+    };
+    let before = loudest(crop);
+    for row in crop.chunks_exact_mut(features) {
+        for (v, g) in row[..bands].iter_mut().zip(curve) {
+            if *v > floor {
+                *v = (*v + g).clamp(floor, RANGE_DB);
+            }
+        }
+    }
+    let shift = loudest(crop) - before;
+    for row in crop.chunks_exact_mut(features) {
+        for v in row[..bands].iter_mut().filter(|v| **v > floor) {
+            *v = (*v - shift).clamp(floor, RANGE_DB);
+        }
+        row[bands + 1] = row[..bands].iter().copied().fold(floor, f32::max) / 10.0;
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -213,6 +257,35 @@ mod tests {
             beats_s: vec![1.0, 2.0, 3.0, 4.0],
             downbeats_s: vec![1.0, 3.0],
         }
+    }
+
+    #[test]
+    fn equalising_real_features_keeps_the_flux_the_floor_and_the_loudest_level() {
+        let mel = Array2::from_shape_fn((40, 16), |(t, b)| {
+            if b > 12 {
+                -200.0
+            } else {
+                -20.0 - b as f32 - if t % 5 == 0 { 0.0 } else { 12.0 }
+            }
+        });
+        let input = frame_features(mel.view()).unwrap();
+        let plain: Vec<f32> = input.iter().copied().collect();
+        let mut flat = plain.clone();
+        equalise(&mut flat, 18, &[0.0; 16]);
+        assert_eq!(flat, plain);
+        let curve = net_core::frames::random_eq_curve(&mut Rng::new(4), 16, 6.0);
+        let mut heard = plain.clone();
+        equalise(&mut heard, 18, &curve);
+        assert_ne!(heard, plain);
+        let top = |x: &[f32]| x.chunks(18).map(|r| r[17]).fold(f32::MIN, f32::max);
+        assert!((top(&heard) - top(&plain)).abs() < 1e-5);
+        for (h, p) in heard.chunks(18).zip(plain.chunks(18)) {
+            assert_eq!(h[16], p[16], "flux kept");
+            assert!(h[13..16].iter().all(|v| *v == -RANGE_DB), "floor kept");
+        }
+        let mut short = plain.clone();
+        equalise(&mut short, 18, &curve[..15]);
+        assert_eq!(short, plain, "a curve of the wrong length changes nothing");
     }
 
     #[test]

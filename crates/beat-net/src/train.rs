@@ -11,13 +11,13 @@ use std::path::Path;
 use std::time::Instant;
 
 use candle_core::{Device, Tensor};
-use net_core::frames::shift_bands;
+use net_core::frames::{random_eq_curve, shift_bands};
 use net_core::rng::Rng;
 use net_core::{set_band_statistics, vars, Adam, AdamConfig, LrSchedule, TrainState};
 use serde::{Deserialize, Serialize};
 
 use crate::activation::{probabilities, BeatActivation};
-use crate::batch::{quiet_crop, random_crop, targets};
+use crate::batch::{equalise, quiet_crop, random_crop, targets};
 use crate::data::{Recording, Splits};
 use crate::error::{BeatNetError, Result};
 use crate::features::{EXTRA_FEATURES, FPS};
@@ -61,6 +61,11 @@ pub struct TrainConfig {
     /// semitones, so the network hears the training works in other keys and registers; 0
     /// draws nothing and leaves the random stream as it was without the setting.
     pub band_shift: usize,
+    /// A recording's crop is heard through a random equaliser up to about this deep (dB;
+    /// [`net_core::frames::random_eq_curve`], applied by [`crate::batch::equalise`]), standing
+    /// for violins and recording chains the corpus lacks; 0 draws nothing and leaves the
+    /// random stream as it was without the setting.
+    pub timbre_eq_db: f32,
     /// Free text stored with the weights (e.g. the data folder).
     pub data_description: String,
 }
@@ -85,6 +90,7 @@ impl Default for TrainConfig {
             clip_norm: Some(5.0),
             quiet_crop_prob: 0.0,
             band_shift: 0,
+            timbre_eq_db: 0.0,
             data_description: String::new(),
         }
     }
@@ -247,6 +253,12 @@ fn check(data: &Splits, cfg: &TrainConfig) -> Result<()> {
             cfg.quiet_crop_prob
         )));
     }
+    if !(0.0..=60.0).contains(&cfg.timbre_eq_db) {
+        return Err(BeatNetError::Config(format!(
+            "timbre_eq_db must be in 0–60 dB (it is {})",
+            cfg.timbre_eq_db
+        )));
+    }
     Ok(())
 }
 
@@ -310,6 +322,11 @@ pub fn train(
                     if cfg.band_shift > 0 {
                         let k = cfg.band_shift as i64;
                         shift_bands(&mut crop.input, f, f - EXTRA_FEATURES, rng.int(-k, k));
+                    }
+                    if cfg.timbre_eq_db > 0.0 {
+                        let bands = f - EXTRA_FEATURES;
+                        let curve = random_eq_curve(&mut rng, bands, cfg.timbre_eq_db);
+                        equalise(&mut crop.input, f, &curve);
                     }
                     crop
                 };
@@ -403,10 +420,19 @@ mod tests {
             val: vec![rec],
         };
         assert!(check(&data, &new).is_ok());
+        assert_eq!(new.timbre_eq_db, 0.0);
         let bad = TrainConfig {
             quiet_crop_prob: 1.5,
-            ..new
+            ..new.clone()
         };
         assert!(matches!(check(&data, &bad), Err(BeatNetError::Config(_))));
+        let bad_eq = TrainConfig {
+            timbre_eq_db: f32::NAN,
+            ..new
+        };
+        assert!(matches!(
+            check(&data, &bad_eq),
+            Err(BeatNetError::Config(_))
+        ));
     }
 }

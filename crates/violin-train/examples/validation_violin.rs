@@ -80,7 +80,7 @@ fn stroke_changes(
     let features = input.ncols();
     let mut rng = net_core::rng::Rng::new(seed);
     for _ in 0..copies {
-        let curve = timbre::random_curve(&mut rng, features - 2, depth_db);
+        let curve = net_core::frames::random_eq_curve(&mut rng, features - 2, depth_db);
         let mut copy = input.clone();
         let flat = copy.as_slice_mut().ok_or("input not contiguous")?;
         timbre::equalise(flat, features, &curve);

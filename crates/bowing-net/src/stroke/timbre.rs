@@ -2,50 +2,10 @@
 //! is heard through a random, smooth, fixed equaliser — a tilt across the bands and a few
 //! broad resonances or notches — so that the network learns bow changes that do not depend on
 //! one violin's body and recording chain. Violins it never heard differ from the training
-//! violins mostly in such a fixed spectral envelope.
-
-use net_core::rng::Rng;
+//! violins mostly in such a fixed spectral envelope. The curve is
+//! [`net_core::frames::random_eq_curve`]; [`equalise`] applies it to the stroke input.
 
 use super::input::{fill_flux_and_level, FLOOR_DB};
-
-/// A random equaliser over `bands` mel bands, at most about `depth_db` deep: a tilt of up to
-/// ±`depth_db`/2 from the lowest to the highest band, plus three Gaussian bumps of up to
-/// ±`depth_db` each, 4–24 bands wide (standard deviation), centred anywhere.
-///
-/// ```
-/// let mut rng = net_core::rng::Rng::new(3);
-/// let curve = bowing_net::stroke::timbre::random_curve(&mut rng, 128, 6.0);
-/// assert_eq!(curve.len(), 128);
-/// assert!(curve.iter().all(|g| g.abs() <= 3.0 + 18.0));
-/// assert!(bowing_net::stroke::timbre::random_curve(&mut rng, 128, 0.0).iter().all(|g| *g == 0.0));
-/// ```
-pub fn random_curve(rng: &mut Rng, bands: usize, depth_db: f32) -> Vec<f32> {
-    let depth = f64::from(depth_db.max(0.0));
-    let mut curve = vec![0.0f32; bands];
-    if depth == 0.0 || bands == 0 {
-        return curve;
-    }
-    let tilt = rng.uniform(-0.5, 0.5) * depth;
-    let span = (bands.max(2) - 1) as f64;
-    let bumps: Vec<(f64, f64, f64)> = (0..3)
-        .map(|_| {
-            let gain = rng.uniform(-1.0, 1.0) * depth;
-            let centre = rng.uniform(0.0, bands as f64);
-            let width = rng.uniform(4.0, 24.0);
-            (gain, centre, width)
-        })
-        .collect();
-    for (b, g) in curve.iter_mut().enumerate() {
-        let x = b as f64;
-        let mut v = tilt * (2.0 * x / span - 1.0);
-        for (gain, centre, width) in &bumps {
-            let z = (x - centre) / width;
-            v += gain * (-0.5 * z * z).exp();
-        }
-        *g = v as f32;
-    }
-    curve
-}
 
 /// Applies `curve` to a crop of stroke-network input rows (`features` values per row: the
 /// bands, then flux and level, as [`super::stroke_input`] makes them). Bands at the floor stay
@@ -107,13 +67,5 @@ mod tests {
         assert!(quiet
             .chunks(18)
             .all(|r| r[..16].iter().all(|v| *v == FLOOR_DB)));
-    }
-
-    #[test]
-    fn curves_are_seeded() {
-        let a = random_curve(&mut Rng::new(9), 128, 6.0);
-        let b = random_curve(&mut Rng::new(9), 128, 6.0);
-        assert_eq!(a, b);
-        assert!(a.iter().any(|g| g.abs() > 0.5));
     }
 }

@@ -297,7 +297,7 @@ pub fn train_strokes(
                 y.string_w[o..o + take].copy_from_slice(&l.string_w[r]);
                 if cfg.timbre_eq_db > 0.0 {
                     let curve =
-                        super::timbre::random_curve(&mut rng, features - 2, cfg.timbre_eq_db);
+                        net_core::frames::random_eq_curve(&mut rng, features - 2, cfg.timbre_eq_db);
                     let crop = &mut x[o * features..(o + take) * features];
                     super::timbre::equalise(crop, features, &curve);
                 }
