@@ -222,26 +222,9 @@ pub fn equalise(crop: &mut [f32], features: usize, curve: &[f32]) {
     if bands == 0 || curve.len() != bands {
         return;
     }
-    let floor = -RANGE_DB;
-    let loudest = |crop: &[f32]| {
-        crop.chunks_exact(features)
-            .flat_map(|row| row[..bands].iter().copied())
-            .fold(floor, f32::max)
-    };
-    let before = loudest(crop);
+    net_core::frames::equalise_bands(crop, features, bands, curve, -RANGE_DB, RANGE_DB);
     for row in crop.chunks_exact_mut(features) {
-        for (v, g) in row[..bands].iter_mut().zip(curve) {
-            if *v > floor {
-                *v = (*v + g).clamp(floor, RANGE_DB);
-            }
-        }
-    }
-    let shift = loudest(crop) - before;
-    for row in crop.chunks_exact_mut(features) {
-        for v in row[..bands].iter_mut().filter(|v| **v > floor) {
-            *v = (*v - shift).clamp(floor, RANGE_DB);
-        }
-        row[bands + 1] = row[..bands].iter().copied().fold(floor, f32::max) / 10.0;
+        row[bands + 1] = row[..bands].iter().copied().fold(-RANGE_DB, f32::max) / 10.0;
     }
 }
 

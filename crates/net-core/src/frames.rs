@@ -137,6 +137,53 @@ pub fn random_eq_curve(rng: &mut Rng, bands: usize, depth_db: f32) -> Vec<f32> {
     curve
 }
 
+/// Hears frames through a fixed equaliser: adds `curve` (dB, one value per band) to the first
+/// `bands` values of every frame of `input` (`width` values per frame), leaving values at or
+/// below `floor_db` (silence, clipped) where they are, then moves every band above the floor
+/// by one amount so that the loudest value keeps its level (network inputs are relative to a
+/// recording's loudest frames); values stay within `floor_db..=ceiling_db`. The features after
+/// the first `bands` are the caller's to recompute. Nothing happens when `curve` does not have
+/// `bands` values or `bands` is 0 or more than `width`.
+///
+/// ```
+/// // Two frames of 3 bands and 1 extra feature; the floor is −80 dB.
+/// let mut x = [-10.0f32, -20.0, -80.0, 7.0, -30.0, -5.0, -80.0, 7.0];
+/// net_core::frames::equalise_bands(&mut x, 4, 3, &[0.0, 10.0, 6.0], -80.0, 80.0);
+/// assert_eq!(x, [-20.0, -20.0, -80.0, 7.0, -40.0, -5.0, -80.0, 7.0]);
+/// ```
+pub fn equalise_bands(
+    input: &mut [f32],
+    width: usize,
+    bands: usize,
+    curve: &[f32],
+    floor_db: f32,
+    ceiling_db: f32,
+) {
+    if bands == 0 || bands > width || curve.len() != bands {
+        return;
+    }
+    let loudest = |input: &[f32]| {
+        input
+            .chunks_exact(width)
+            .flat_map(|row| row[..bands].iter().copied())
+            .fold(floor_db, f32::max)
+    };
+    let before = loudest(input);
+    for row in input.chunks_exact_mut(width) {
+        for (v, g) in row[..bands].iter_mut().zip(curve) {
+            if *v > floor_db {
+                *v = (*v + g).clamp(floor_db, ceiling_db);
+            }
+        }
+    }
+    let shift = loudest(input) - before;
+    for row in input.chunks_exact_mut(width) {
+        for v in row[..bands].iter_mut().filter(|v| **v > floor_db) {
+            *v = (*v - shift).clamp(floor_db, ceiling_db);
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::shift_bands;

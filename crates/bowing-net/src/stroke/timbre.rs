@@ -17,25 +17,7 @@ pub fn equalise(crop: &mut [f32], features: usize, curve: &[f32]) {
     if bands == 0 || curve.len() != bands {
         return;
     }
-    let loudest = |crop: &[f32]| {
-        crop.chunks_exact(features)
-            .flat_map(|row| row[..bands].iter().copied())
-            .fold(FLOOR_DB, f32::max)
-    };
-    let before = loudest(crop);
-    for row in crop.chunks_exact_mut(features) {
-        for (v, g) in row[..bands].iter_mut().zip(curve) {
-            if *v > FLOOR_DB {
-                *v = (*v + g).max(FLOOR_DB);
-            }
-        }
-    }
-    let shift = loudest(crop) - before;
-    for row in crop.chunks_exact_mut(features) {
-        for v in row[..bands].iter_mut().filter(|v| **v > FLOOR_DB) {
-            *v = (*v - shift).max(FLOOR_DB);
-        }
-    }
+    net_core::frames::equalise_bands(crop, features, bands, curve, FLOOR_DB, f32::INFINITY);
     fill_flux_and_level(crop, bands);
 }
 
