@@ -143,7 +143,7 @@ pub fn random_eq_curve(rng: &mut Rng, bands: usize, depth_db: f32) -> Vec<f32> {
 /// by one amount so that the loudest value keeps its level (network inputs are relative to a
 /// recording's loudest frames); values stay within `floor_db..=ceiling_db`. The features after
 /// the first `bands` are the caller's to recompute. Nothing happens when `curve` does not have
-/// `bands` values or `bands` is 0 or more than `width`.
+/// `bands` values, `bands` is 0 or more than `width`, or the floor is not below the ceiling.
 ///
 /// ```
 /// // Two frames of 3 bands and 1 extra feature; the floor is −80 dB.
@@ -159,7 +159,11 @@ pub fn equalise_bands(
     floor_db: f32,
     ceiling_db: f32,
 ) {
-    if bands == 0 || bands > width || curve.len() != bands {
+    if bands == 0
+        || bands > width
+        || curve.len() != bands
+        || floor_db.partial_cmp(&ceiling_db) != Some(std::cmp::Ordering::Less)
+    {
         return;
     }
     let loudest = |input: &[f32]| {
@@ -188,6 +192,14 @@ pub fn equalise_bands(
 mod tests {
     use super::shift_bands;
     use crate::rng::Rng;
+
+    #[test]
+    fn equalising_with_a_floor_above_the_ceiling_changes_nothing() {
+        let mut x = [-10.0f32, -20.0, 7.0];
+        super::equalise_bands(&mut x, 3, 2, &[1.0, 2.0], 0.0, -80.0);
+        super::equalise_bands(&mut x, 3, 2, &[1.0, 2.0], f32::NAN, 80.0);
+        assert_eq!(x, [-10.0, -20.0, 7.0]);
+    }
 
     #[test]
     fn eq_curves_are_seeded() {
