@@ -88,3 +88,67 @@ fn inference_path_equals_the_training_graph() {
         assert!((a - b).abs() < 1e-5, "{a} vs {b}");
     }
 }
+
+/// An ensemble averages its members' probabilities, survives a round trip through a file,
+/// and refuses members of another shape and files with a member missing.
+#[test]
+fn ensembles_average_and_round_trip() {
+    let one = || BeatActivation::pretrained().unwrap();
+    let mel = clicks(-15.0);
+    let single = one().activations(mel.view()).unwrap();
+    let pair = BeatActivation::ensemble(vec![one(), one()]).unwrap();
+    assert_eq!(pair.member_count(), 2);
+    let averaged = pair.activations(mel.view()).unwrap();
+    for (a, b) in single
+        .beat
+        .iter()
+        .chain(&single.downbeat)
+        .zip(averaged.beat.iter().chain(&averaged.downbeat))
+    {
+        assert!((a - b).abs() < 1e-6, "{a} vs {b}");
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("pair.safetensors");
+    pair.save(&path).unwrap();
+    let again = BeatActivation::load(&path).unwrap();
+    assert_eq!(again.member_count(), 2);
+    assert_eq!(again.activations(mel.view()).unwrap(), averaged);
+    assert!(again.training_info().contains("ensemble_of"));
+    // Nesting flattens: an ensemble of the pair and a single network has three members.
+    assert_eq!(
+        BeatActivation::ensemble(vec![again, one()])
+            .unwrap()
+            .member_count(),
+        3
+    );
+    assert!(BeatActivation::ensemble(Vec::new()).is_err());
+
+    // Another shape is refused.
+    let cfg = beat_net::Config {
+        tcn: net_core::nn::TcnConfig {
+            channels: 8,
+            ..beat_net::Config::default().tcn
+        },
+        ..beat_net::Config::default()
+    };
+    let (varmap, _) = beat_net::BeatNet::seeded(&cfg, 3).unwrap();
+    let small = BeatActivation::from_varmap(&cfg, &varmap, String::new()).unwrap();
+    assert!(BeatActivation::ensemble(vec![one(), small]).is_err());
+
+    // A file whose second member lost a tensor is refused with the tensor's name.
+    let bytes = std::fs::read(&path).unwrap();
+    let mut file = net_core::file::decode(&bytes, &path).unwrap();
+    let victim = file
+        .tensors
+        .keys()
+        .find(|k| k.starts_with("member1/"))
+        .unwrap()
+        .clone();
+    file.tensors.remove(&victim);
+    let tensors: Vec<(String, candle_core::Tensor)> = file.tensors.into_iter().collect();
+    let broken = net_core::file::encode(&tensors, file.metadata).unwrap();
+    let err = BeatActivation::from_bytes(&broken, Path::new("broken"))
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains(&victim), "{err}");
+}
