@@ -56,8 +56,59 @@ fn format_error(path: &Path, reason: String) -> SkeletonError {
     }
 }
 
+/// Longest header read; numpy itself refuses longer ones by default (`max_header_size`).
+const MAX_HEADER_BYTES: usize = 10_000;
+/// Deepest bracket nesting read in a header. A plain array's header nests 2 (the dict's `{`
+/// and the shape's `(`); the header parser `ndarray-npy` uses slows down steeply with the
+/// depth (a damaged header nesting 18 `[` took over a second), so deeper ones are refused
+/// before it runs.
+const MAX_HEADER_NESTING: usize = 4;
+
+/// Refuses NPY headers that are too long or nest brackets too deeply to be an array numpy
+/// wrote; anything else (bad magic, short files) is left to `ndarray-npy`'s own errors.
+fn check_header(bytes: &[u8], path: &Path) -> Result<()> {
+    let (Some(magic), Some(&major)) = (bytes.get(..6), bytes.get(6)) else {
+        return Ok(());
+    };
+    if magic != b"\x93NUMPY" {
+        return Ok(());
+    }
+    let (len, start) = match (major, bytes.get(8..10), bytes.get(8..12)) {
+        (1, Some(b), _) => (usize::from(u16::from_le_bytes([b[0], b[1]])), 10),
+        (_, _, Some(b)) => (u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize, 12),
+        _ => return Ok(()),
+    };
+    if len > MAX_HEADER_BYTES {
+        return Err(format_error(
+            path,
+            format!("its NPY header is {len} bytes, numpy writes at most {MAX_HEADER_BYTES}: the file is damaged"),
+        ));
+    }
+    let header = bytes.get(start..).unwrap_or_default();
+    let header = &header[..len.min(header.len())];
+    let (mut depth, mut deepest) = (0usize, 0usize);
+    for b in header {
+        match b {
+            b'[' | b'(' | b'{' => {
+                depth += 1;
+                deepest = deepest.max(depth);
+            }
+            b']' | b')' | b'}' => depth = depth.saturating_sub(1),
+            _ => {}
+        }
+    }
+    if deepest > MAX_HEADER_NESTING {
+        return Err(format_error(
+            path,
+            format!("its NPY header nests brackets {deepest} deep (an array's header nests 2): the file is damaged"),
+        ));
+    }
+    Ok(())
+}
+
 /// The array in `bytes` as `(T, 20)` f32, whichever of the accepted forms it has.
 fn parse(bytes: &[u8], path: &Path) -> Result<Array2<f32>> {
+    check_header(bytes, path)?;
     let two_d = |a: Array2<f32>| -> Result<Array2<f32>> {
         if a.ncols() == 2 * JOINT_COUNT {
             Ok(a)
