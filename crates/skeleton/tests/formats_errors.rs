@@ -213,7 +213,7 @@ fn npy_errors() {
 fn npy_damaged_headers_are_refused() {
     let npy = |header: &str| {
         let mut h = header.to_string();
-        while (10 + h.len() + 1) % 64 != 0 {
+        while !(10 + h.len() + 1).is_multiple_of(64) {
             h.push(' ');
         }
         h.push('\n');
