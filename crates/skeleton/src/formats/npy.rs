@@ -81,7 +81,7 @@ fn check_header(bytes: &[u8], path: &Path) -> Result<()> {
     if len > MAX_HEADER_BYTES {
         return Err(format_error(
             path,
-            format!("its NPY header is {len} bytes, numpy writes at most {MAX_HEADER_BYTES}: the file is damaged"),
+            format!("its NPY header is {len} bytes, numpy writes at most {MAX_HEADER_BYTES}: the file is damaged, write it again with numpy.save"),
         ));
     }
     let header = bytes.get(start..).unwrap_or_default();
@@ -100,7 +100,7 @@ fn check_header(bytes: &[u8], path: &Path) -> Result<()> {
     if deepest > MAX_HEADER_NESTING {
         return Err(format_error(
             path,
-            format!("its NPY header nests brackets {deepest} deep (an array's header nests 2): the file is damaged"),
+            format!("its NPY header nests brackets {deepest} deep (an array's header nests 2): the file is damaged, write it again with numpy.save"),
         ));
     }
     Ok(())
