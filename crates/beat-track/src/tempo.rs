@@ -8,7 +8,7 @@
 //! default 4 = 46 ms still averages ~86 windows per window length), at a quarter of the
 //! cost. Windows are transformed two at a time ([`dsp_mel::fft::PairFft`]).
 
-use dsp_mel::fft::{Complex, PairFft};
+use dsp_mel::fft::{smooth_even_at_least, Complex, PairFft};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -119,23 +119,6 @@ fn add_normalised(sum: &mut [f64], acf: &[f32]) {
     };
     for (s, v) in sum.iter_mut().zip(acf) {
         *s += f64::from(*v) * scale;
-    }
-}
-
-/// The smallest even number ≥ `n` whose only prime factors are 2, 3 and 5.
-fn smooth_even_at_least(n: usize) -> usize {
-    let mut m = n.max(2) + n % 2;
-    loop {
-        let mut r = m;
-        for p in [2, 3, 5] {
-            while r.is_multiple_of(p) {
-                r /= p;
-            }
-        }
-        if r == 1 {
-            return m;
-        }
-        m += 2;
     }
 }
 

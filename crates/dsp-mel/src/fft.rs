@@ -27,6 +27,31 @@ pub use rustfft::{Fft, FftNum};
 
 pub use crate::pair_fft::{PairBuffers, PairFft};
 
+/// The smallest even length ≥ `n` whose only prime factors are 2, 3 and 5: a fast FFT
+/// size for zero-padded transforms such as autocorrelations.
+///
+/// ```
+/// use dsp_mel::fft::smooth_even_at_least;
+/// assert_eq!(smooth_even_at_least(2169), 2250); // 2 · 3² · 5³
+/// assert_eq!(smooth_even_at_least(2048), 2048);
+/// assert_eq!(smooth_even_at_least(0), 2);
+/// ```
+pub fn smooth_even_at_least(n: usize) -> usize {
+    let mut m = n.max(2) + n % 2;
+    loop {
+        let mut r = m;
+        for p in [2, 3, 5] {
+            while r.is_multiple_of(p) {
+                r /= p;
+            }
+        }
+        if r == 1 {
+            return m;
+        }
+        m += 2;
+    }
+}
+
 /// Complex and real-input FFT planners of one precision (`f32` or `f64`).
 pub struct Planner<T: FftNum> {
     complex: FftPlanner<T>,

@@ -3,7 +3,7 @@
 
 use std::sync::Arc;
 
-use dsp_mel::fft::{Complex, ComplexToReal, Planner, RealToComplex};
+use dsp_mel::fft::{smooth_even_at_least, Complex, ComplexToReal, Planner, RealToComplex};
 use rayon::prelude::*;
 
 use crate::config::PitchConfig;
@@ -302,32 +302,9 @@ fn parabolic_shift(y: &[f64], i: usize) -> f64 {
     }
 }
 
-/// The smallest even number ≥ `n` whose only prime factors are 2, 3 and 5 (fast FFT sizes).
-fn smooth_even_at_least(n: usize) -> usize {
-    let mut m = n.max(2) + n % 2;
-    loop {
-        let mut r = m;
-        for p in [2, 3, 5] {
-            while r.is_multiple_of(p) {
-                r /= p;
-            }
-        }
-        if r == 1 {
-            return m;
-        }
-        m += 2;
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn fft_sizes_are_smooth() {
-        assert_eq!(smooth_even_at_least(2169), 2250);
-        assert_eq!(smooth_even_at_least(2048), 2048);
-    }
 
     #[test]
     fn a_sine_has_one_strong_candidate_at_its_pitch() {
