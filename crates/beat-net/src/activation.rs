@@ -120,10 +120,7 @@ impl BeatActivation {
 
     /// A copy of the variables of `varmap` (e.g. during training).
     pub fn from_varmap(cfg: &Config, varmap: &VarMap, training: String) -> Result<Self> {
-        let tensors = vars::var_tensors(varmap)
-            .into_iter()
-            .map(|(n, t)| t.copy().map(|t| (n, t)))
-            .collect::<candle_core::Result<Vec<_>>>()?;
+        let tensors = vars::copied_tensors(varmap)?;
         Self::from_tensors(cfg, tensors, training)
     }
 

@@ -100,10 +100,7 @@ impl BowChangeDetector {
         decoder: Decoder,
         training: String,
     ) -> Result<Self> {
-        let tensors = vars::var_tensors(varmap)
-            .into_iter()
-            .map(|(n, t)| t.copy().map(|t| (n, t)))
-            .collect::<candle_core::Result<Vec<_>>>()?;
+        let tensors = vars::copied_tensors(varmap)?;
         Self::from_tensors(cfg, tensors, decoder, training)
     }
 

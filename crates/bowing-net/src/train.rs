@@ -25,8 +25,8 @@ use candle_core::{Device, Tensor};
 use candle_nn::VarMap;
 use net_core::rng::Rng;
 use net_core::{
-    checkpoint_path, load_checkpoint, save_checkpoint, set_band_statistics, vars, Adam, AdamConfig,
-    LrSchedule, TrainState,
+    checkpoint_path, resume_from_checkpoint, save_checkpoint, set_band_statistics, vars, Adam,
+    AdamConfig, LrSchedule, TrainState,
 };
 use serde::{Deserialize, Serialize};
 
@@ -256,17 +256,14 @@ pub fn train(
     let ckpt = checkpoint_path(out);
     let mut state = TrainState::new(mcfg.clone(), -1.0);
     if resume {
-        let (file, saved): (_, TrainState<Config>) =
-            load_checkpoint(&ckpt, CHECKPOINT_FORMAT, FORMAT_VERSION)?;
-        if &saved.model != mcfg {
-            return Err(NetError::weights(
-                &ckpt,
-                "the checkpoint's network shape differs from the requested one",
-            ));
-        }
-        vars::load_into(&varmap, &file.tensors, &ckpt)?;
-        adam.load_state(&file.tensors)?;
-        state = saved;
+        state = resume_from_checkpoint(
+            &ckpt,
+            CHECKPOINT_FORMAT,
+            FORMAT_VERSION,
+            mcfg,
+            &varmap,
+            &mut adam,
+        )?;
     }
 
     let pads: Vec<f32> = data

@@ -13,8 +13,8 @@ use candle_core::{DType, Device, Tensor};
 use candle_nn::{VarBuilder, VarMap};
 use net_core::rng::Rng;
 use net_core::{
-    checkpoint_path, load_checkpoint, save_checkpoint, set_band_statistics, vars, Adam, AdamConfig,
-    LrSchedule, TrainState,
+    checkpoint_path, resume_from_checkpoint, save_checkpoint, set_band_statistics, vars, Adam,
+    AdamConfig, LrSchedule, TrainState,
 };
 use serde::{Deserialize, Serialize};
 
@@ -226,17 +226,14 @@ pub fn train(
     let ckpt = checkpoint_path(out);
     let mut state = TrainState::new(mcfg.clone(), -2.0);
     if resume {
-        let (file, saved): (_, TrainState<Config>) =
-            load_checkpoint(&ckpt, CHECKPOINT_FORMAT, FORMAT_VERSION)?;
-        if &saved.model != mcfg {
-            return Err(EmotionError::weights(
-                &ckpt,
-                "the checkpoint's network shape differs from the requested one",
-            ));
-        }
-        vars::load_into(&varmap, &file.tensors, &ckpt)?;
-        adam.load_state(&file.tensors)?;
-        state = saved;
+        state = resume_from_checkpoint(
+            &ckpt,
+            CHECKPOINT_FORMAT,
+            FORMAT_VERSION,
+            mcfg,
+            &varmap,
+            &mut adam,
+        )?;
     }
 
     let pads: Vec<f32> = train_tracks

@@ -11,6 +11,7 @@ use serde::{Deserialize, Serialize};
 use crate::adam::Adam;
 use crate::error::{Result, StoreError};
 use crate::file::{self, TensorFile};
+use crate::vars;
 
 /// The checkpoint written beside `out`: `W.safetensors` → `W.ckpt.safetensors`.
 ///
@@ -120,4 +121,27 @@ pub fn load_checkpoint<S: DeserializeOwned>(
     file.check_format(path, format, version)?;
     let state = file.meta_json(KEY_STATE, path)?;
     Ok((file, state))
+}
+
+/// Continues a training run: reads the checkpoint at `path` ([`load_checkpoint`]), refuses it
+/// when its network configuration is not `model`, and loads its tensors into `varmap` and its
+/// moments into `adam`; returns where training stands.
+pub fn resume_from_checkpoint<C: DeserializeOwned + PartialEq>(
+    path: &Path,
+    format: &str,
+    version: u32,
+    model: &C,
+    varmap: &candle_nn::VarMap,
+    adam: &mut Adam,
+) -> Result<TrainState<C>> {
+    let (file, state): (_, TrainState<C>) = load_checkpoint(path, format, version)?;
+    if &state.model != model {
+        return Err(StoreError::weights(
+            path,
+            "the checkpoint's network shape differs from the requested one",
+        ));
+    }
+    vars::load_into(varmap, &file.tensors, path)?;
+    adam.load_state(&file.tensors)?;
+    Ok(state)
 }

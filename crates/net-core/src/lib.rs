@@ -44,7 +44,9 @@ mod stats;
 pub mod vars;
 
 pub use adam::{Adam, AdamConfig};
-pub use checkpoint::{checkpoint_path, load_checkpoint, save_checkpoint, TrainState};
+pub use checkpoint::{
+    checkpoint_path, load_checkpoint, resume_from_checkpoint, save_checkpoint, TrainState,
+};
 pub use error::{Result, StoreError};
 pub use file::{TensorFile, KEY_FORMAT, KEY_VERSION};
 pub use schedule::LrSchedule;

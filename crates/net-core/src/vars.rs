@@ -36,6 +36,15 @@ pub fn var_tensors(varmap: &VarMap) -> Vec<(String, Tensor)> {
     out
 }
 
+/// Copies of the variables of `varmap` as `(name, tensor)` pairs, sorted by name: a snapshot
+/// that later training steps do not change (e.g. a detector built during training).
+pub fn copied_tensors(varmap: &VarMap) -> candle_core::Result<Vec<(String, Tensor)>> {
+    var_tensors(varmap)
+        .into_iter()
+        .map(|(n, t)| t.copy().map(|t| (n, t)))
+        .collect()
+}
+
 /// The trainable variables of `varmap` (all but those `frozen` says), sorted by name.
 pub fn trainable_vars(
     varmap: &VarMap,

@@ -9,8 +9,8 @@ use candle_core::{DType, Device, Tensor};
 use candle_nn::{Init, VarBuilder, VarMap};
 use net_core::file::{self, decode, encode, metadata};
 use net_core::{
-    checkpoint_path, load_checkpoint, save_checkpoint, vars, Adam, AdamConfig, LrSchedule,
-    TrainState,
+    checkpoint_path, load_checkpoint, resume_from_checkpoint, save_checkpoint, vars, Adam,
+    AdamConfig, LrSchedule, TrainState,
 };
 
 fn demo_varmap() -> VarMap {
@@ -192,6 +192,50 @@ fn adam_state_and_checkpoints_resume_exactly() {
     no_moments.retain(|k, _| !k.starts_with("adam."));
     let e = again.load_state(&no_moments).unwrap_err().to_string();
     assert!(e.contains("optimizer"), "{e}");
+
+    // Resuming in one call: the variables, the moments and the state come back; a
+    // checkpoint of another network shape is refused, naming the file.
+    let fresh = VarMap::new();
+    let vb = VarBuilder::from_varmap(&fresh, DType::F32, &Device::Cpu);
+    vb.get_with_hints((3, 2), "dense.weight", Init::Const(0.0))
+        .unwrap();
+    vb.get_with_hints(3, "dense.bias", Init::Const(0.0))
+        .unwrap();
+    vb.get_with_hints(2, "norm.mean", Init::Const(0.0)).unwrap();
+    let fresh_params = vars::trainable_vars(&fresh, |n| n.starts_with("norm."));
+    let mut resumed = Adam::new(fresh_params, AdamConfig::default()).unwrap();
+    let st = resume_from_checkpoint(
+        &ckpt,
+        "demo-ckpt",
+        1,
+        &"cfg".to_string(),
+        &fresh,
+        &mut resumed,
+    )
+    .unwrap();
+    assert_eq!(st, state);
+    assert_eq!(resumed.steps(), 3);
+    let values = |m: &VarMap| -> Vec<Vec<f32>> {
+        vars::var_tensors(m)
+            .iter()
+            .map(|(_, t)| t.flatten_all().unwrap().to_vec1::<f32>().unwrap())
+            .collect()
+    };
+    assert_eq!(values(&fresh), values(&varmap));
+    let e = resume_from_checkpoint(
+        &ckpt,
+        "demo-ckpt",
+        1,
+        &"other".to_string(),
+        &fresh,
+        &mut resumed,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("w.ckpt.safetensors") && e.contains("shape"),
+        "{e}"
+    );
 }
 
 #[test]

@@ -197,10 +197,7 @@ impl StrokeDetector {
         decoder: Decoder,
         training: String,
     ) -> Result<Self> {
-        let tensors = vars::var_tensors(varmap)
-            .into_iter()
-            .map(|(n, t)| t.copy().map(|t| (n, t)))
-            .collect::<candle_core::Result<Vec<_>>>()?;
+        let tensors = vars::copied_tensors(varmap)?;
         Self::from_tensors(cfg, tensors, decoder, training)
     }
 
