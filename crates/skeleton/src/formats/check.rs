@@ -1,5 +1,5 @@
-//! What every format shares: the default frame rate, the in-memory path label, and the
-//! checks before writing.
+//! What every format shares: the default frame rate, the in-memory path label, format
+//! errors, reading a whole reader, and the checks before writing.
 
 use std::path::{Path, PathBuf};
 
@@ -83,4 +83,22 @@ fn point_name(p: usize, joints: bool) -> &'static str {
 /// A path for error messages of the in-memory readers and writers.
 pub(crate) fn memory_path() -> PathBuf {
     PathBuf::from(MEMORY)
+}
+
+/// A format error about the file at `path`.
+pub(crate) fn format_error(path: &Path, reason: impl Into<String>) -> SkeletonError {
+    SkeletonError::Format {
+        path: path.to_path_buf(),
+        reason: reason.into(),
+    }
+}
+
+/// Everything `reader` holds, for the in-memory readers, with the path their errors name.
+pub(crate) fn read_all(mut reader: impl std::io::Read) -> Result<(Vec<u8>, PathBuf)> {
+    let path = memory_path();
+    let mut bytes = Vec::new();
+    match reader.read_to_end(&mut bytes) {
+        Ok(_) => Ok((bytes, path)),
+        Err(source) => Err(SkeletonError::Io { path, source }),
+    }
 }

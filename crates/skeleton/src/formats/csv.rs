@@ -5,6 +5,7 @@ use std::path::Path;
 
 use ndarray::Array3;
 
+use super::check::format_error;
 use crate::error::{Result, SkeletonError};
 use crate::joint::{Joint, JOINT_COUNT};
 use crate::motion::Motion;
@@ -60,23 +61,9 @@ pub(crate) fn write(motion: &Motion, mut writer: impl Write, path: &Path) -> Res
 
 /// Reads CSV from `reader`: columns by header name (any order; all 22 required, no others),
 /// frames numbered 0, 1, 2, …, fps from the `time_s` column (30 for a single row).
-pub fn read_csv_from(mut reader: impl Read) -> Result<Motion> {
-    let path = super::check::memory_path();
-    let mut bytes = Vec::new();
-    reader
-        .read_to_end(&mut bytes)
-        .map_err(|e| SkeletonError::Io {
-            path: path.clone(),
-            source: e,
-        })?;
+pub fn read_csv_from(reader: impl Read) -> Result<Motion> {
+    let (bytes, path) = super::check::read_all(reader)?;
     read(&bytes, &path)
-}
-
-fn format_error(path: &Path, reason: String) -> SkeletonError {
-    SkeletonError::Format {
-        path: path.to_path_buf(),
-        reason,
-    }
 }
 
 /// Where each header column goes: frame, time, or (joint, coordinate).
@@ -126,10 +113,7 @@ fn fps_from_times(path: &Path, times: &[f64]) -> Result<f64> {
     let span = times[n - 1] - times[0];
     let raw = (n - 1) as f64 / span;
     if !(raw.is_finite() && raw > 0.0) {
-        return Err(format_error(
-            path,
-            "time_s must increase from row to row".into(),
-        ));
+        return Err(format_error(path, "time_s must increase from row to row"));
     }
     let fps = if (raw - raw.round()).abs() < 1e-6 * raw {
         raw.round()

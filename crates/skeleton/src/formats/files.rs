@@ -3,19 +3,13 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
+use super::check::format_error;
 use crate::error::{Result, SkeletonError};
 
 fn io_error(path: &Path, source: std::io::Error) -> SkeletonError {
     SkeletonError::Io {
         path: path.to_path_buf(),
         source,
-    }
-}
-
-fn format_error(path: &Path, reason: impl Into<String>) -> SkeletonError {
-    SkeletonError::Format {
-        path: path.to_path_buf(),
-        reason: reason.into(),
     }
 }
 

@@ -6,6 +6,7 @@ use std::path::Path;
 use serde::ser::Serializer;
 use serde::{Deserialize, Serialize};
 
+use super::check::format_error;
 use super::track_json::{column_order, to_track, RawTrack, Track};
 use crate::error::{Result, SkeletonError};
 use crate::joint::{Joint, JOINT_COUNT};
@@ -98,23 +99,9 @@ struct MotionJsonIn {
 
 /// Reads motion JSON from `reader` (joints in any order, by name; unknown or missing joints
 /// are errors).
-pub fn read_json_from(mut reader: impl Read) -> Result<Motion> {
-    let path = super::check::memory_path();
-    let mut bytes = Vec::new();
-    reader
-        .read_to_end(&mut bytes)
-        .map_err(|e| SkeletonError::Io {
-            path: path.clone(),
-            source: e,
-        })?;
+pub fn read_json_from(reader: impl Read) -> Result<Motion> {
+    let (bytes, path) = super::check::read_all(reader)?;
     read(&bytes, &path)
-}
-
-fn format_error(path: &Path, reason: String) -> SkeletonError {
-    SkeletonError::Format {
-        path: path.to_path_buf(),
-        reason,
-    }
 }
 
 fn missing(path: &Path, field: &str, hint: &str) -> SkeletonError {

@@ -6,6 +6,7 @@ use std::path::Path;
 use ndarray::{Array2, Array3};
 use ndarray_npy::{ReadNpyExt, WriteNpyExt};
 
+use super::check::format_error;
 use crate::error::{Result, SkeletonError};
 use crate::joint::{Joint, JOINT_COUNT};
 use crate::motion::Motion;
@@ -37,23 +38,9 @@ pub(crate) fn write(motion: &Motion, writer: impl Write, path: &Path) -> Result<
 
 /// Reads a `(T, 20)` (or `(T, 10, 2)`) float32 or float64 NPY array from `reader` as a
 /// motion at `fps`.
-pub fn read_npy_from(mut reader: impl Read, fps: f64) -> Result<Motion> {
-    let path = super::check::memory_path();
-    let mut bytes = Vec::new();
-    reader
-        .read_to_end(&mut bytes)
-        .map_err(|e| SkeletonError::Io {
-            path: path.clone(),
-            source: e,
-        })?;
+pub fn read_npy_from(reader: impl Read, fps: f64) -> Result<Motion> {
+    let (bytes, path) = super::check::read_all(reader)?;
     read(&bytes, fps, &path)
-}
-
-fn format_error(path: &Path, reason: String) -> SkeletonError {
-    SkeletonError::Format {
-        path: path.to_path_buf(),
-        reason,
-    }
 }
 
 /// Longest header read; numpy itself refuses longer ones by default (`max_header_size`).

@@ -9,6 +9,7 @@ use std::path::{Path, PathBuf};
 use ndarray::Array3;
 use serde::{Deserialize, Serialize};
 
+use super::check::format_error;
 use crate::body25::BodyPoint;
 use crate::error::{Result, SkeletonError};
 use crate::hand::HAND_POINT_COUNT;
@@ -300,13 +301,6 @@ pub(crate) fn write_dir(motion: &Motion, dir: &Path, options: &OpenPoseOptions) 
         }
         Ok(())
     })
-}
-
-fn format_error(path: &Path, reason: impl Into<String>) -> SkeletonError {
-    SkeletonError::Format {
-        path: path.to_path_buf(),
-        reason: reason.into(),
-    }
 }
 
 /// The `*_keypoints.json` files of `dir`, ordered by frame number.
