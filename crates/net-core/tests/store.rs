@@ -13,14 +13,21 @@ use net_core::{
     AdamConfig, LrSchedule, TrainState,
 };
 
-fn demo_varmap() -> VarMap {
+/// The demo network's variables, all zero but `norm.mean` (`norm`).
+fn blank_varmap(norm: f64) -> VarMap {
     let varmap = VarMap::new();
     let vb = VarBuilder::from_varmap(&varmap, DType::F32, &Device::Cpu);
     vb.get_with_hints((3, 2), "dense.weight", Init::Const(0.0))
         .unwrap();
     vb.get_with_hints(3, "dense.bias", Init::Const(0.0))
         .unwrap();
-    vb.get_with_hints(2, "norm.mean", Init::Const(5.0)).unwrap();
+    vb.get_with_hints(2, "norm.mean", Init::Const(norm))
+        .unwrap();
+    varmap
+}
+
+fn demo_varmap() -> VarMap {
+    let varmap = blank_varmap(5.0);
     vars::init_seeded(&varmap, 7, |n, d| {
         (!n.starts_with("norm.")).then(|| vars::glorot_bound(d))
     })
@@ -46,13 +53,7 @@ fn weights_round_trip_with_metadata_and_checks() {
     let taken = f.take_expected(path, &expected).unwrap();
     assert_eq!(taken.len(), 3);
     // Loading into a fresh map restores every value.
-    let fresh = VarMap::new();
-    let vb = VarBuilder::from_varmap(&fresh, DType::F32, &Device::Cpu);
-    vb.get_with_hints((3, 2), "dense.weight", Init::Const(0.0))
-        .unwrap();
-    vb.get_with_hints(3, "dense.bias", Init::Const(0.0))
-        .unwrap();
-    vb.get_with_hints(2, "norm.mean", Init::Const(0.0)).unwrap();
+    let fresh = blank_varmap(0.0);
     vars::load_into(&fresh, &f.tensors, path).unwrap();
     assert_eq!(
         vars::var_tensors(&fresh)[0]
@@ -195,13 +196,7 @@ fn adam_state_and_checkpoints_resume_exactly() {
 
     // Resuming in one call: the variables, the moments and the state come back; a
     // checkpoint of another network shape is refused, naming the file.
-    let fresh = VarMap::new();
-    let vb = VarBuilder::from_varmap(&fresh, DType::F32, &Device::Cpu);
-    vb.get_with_hints((3, 2), "dense.weight", Init::Const(0.0))
-        .unwrap();
-    vb.get_with_hints(3, "dense.bias", Init::Const(0.0))
-        .unwrap();
-    vb.get_with_hints(2, "norm.mean", Init::Const(0.0)).unwrap();
+    let fresh = blank_varmap(0.0);
     let fresh_params = vars::trainable_vars(&fresh, |n| n.starts_with("norm."));
     let mut resumed = Adam::new(fresh_params, AdamConfig::default()).unwrap();
     let st = resume_from_checkpoint(
