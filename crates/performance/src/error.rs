@@ -99,6 +99,9 @@ pub enum PerformanceError {
         "a note gives only part of its fingering; give all of string, position and finger, or none"
     )]
     PartialFingering,
+    /// Text that is not a time signature.
+    #[error("\"{0}\" is not a time signature: write it as N/D, e.g. 3/4 or 6/8 (N 1..=32, D 1, 2, 4, 8, 16 or 32)")]
+    TimeSignature(String),
 }
 
 /// A performance (or `analysis.json`) file that could not be read.

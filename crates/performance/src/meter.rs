@@ -2,6 +2,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::error::PerformanceError;
+
 /// Beats per bar and subdivisions per beat: 4/4 = `{4, 2}`, 3/4 = `{3, 2}`, 2/4 = `{2, 2}`,
 /// 6/8 = `{2, 3}` (two dotted-quarter beats of three eighths).
 ///
@@ -113,5 +115,29 @@ impl TimeSignature {
 impl std::fmt::Display for TimeSignature {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(f, "{}/{}", self.numerator, self.denominator)
+    }
+}
+
+impl std::str::FromStr for TimeSignature {
+    type Err = PerformanceError;
+
+    /// Parses `N/D` (spaces around the figures allowed), e.g. `3/4`, `6/8`, `2/2`.
+    ///
+    /// ```
+    /// use performance::TimeSignature;
+    /// assert_eq!("6/8".parse::<TimeSignature>().unwrap(), TimeSignature::new(6, 8));
+    /// assert!("3/5".parse::<TimeSignature>().is_err());
+    /// assert!("waltz".parse::<TimeSignature>().is_err());
+    /// ```
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        let bad = || PerformanceError::TimeSignature(s.to_string());
+        let (n, d) = s.split_once('/').ok_or_else(bad)?;
+        let figure = |t: &str| t.trim().parse::<u8>().map_err(|_| bad());
+        let ts = TimeSignature::new(figure(n)?, figure(d)?);
+        if ts.is_valid() {
+            Ok(ts)
+        } else {
+            Err(bad())
+        }
     }
 }
