@@ -4,9 +4,9 @@
 
 use beat_net::Activations;
 use beat_track::bar_pointer::{self, BarPointerConfig};
-use performance::{Meter, Note};
+use performance::{Meter, Note, TimeSignature};
 
-use crate::error::Result;
+use crate::error::{Error, Result};
 
 /// Which beat tracker the audio analysis uses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -32,6 +32,79 @@ impl std::str::FromStr for BeatMethod {
     }
 }
 
+/// What the user knows about a recording's beat, for the learned tracker: the written time
+/// signature (then the bar length is not guessed, and simple or compound comes from it) and
+/// the tempo range at its notated beat (a quarter in 3/4, a dotted quarter in 6/8). Without
+/// them the tracker guesses both, and on unseen music it most often misses exactly these: a
+/// 4/4 read as 2/4, a tempo at double or half (`README.md`, "What limits the figures").
+///
+/// ```
+/// use violin_skeleton::{BeatHints, Pipeline};
+/// let hints = BeatHints {
+///     time_signature: Some("3/4".parse()?),
+///     tempo_range_bpm: Some((100.0, 140.0)),
+/// };
+/// hints.check()?;
+/// let pipeline = Pipeline::builder().beat_hints(hints).build();
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct BeatHints {
+    /// The written time signature.
+    pub time_signature: Option<TimeSignature>,
+    /// Slowest and fastest tempo at the notated beat, bpm.
+    pub tempo_range_bpm: Option<(f64, f64)>,
+}
+
+/// Tempo hints must lie within this range (bpm at the notated beat).
+pub const HINT_TEMPO_RANGE_BPM: (f64, f64) = (10.0, 400.0);
+
+/// Most beats per bar a time-signature hint may ask for (a 12/4 bar).
+pub const HINT_MAX_BEATS_PER_BAR: u8 = 12;
+
+impl BeatHints {
+    /// Whether any hint is given.
+    pub fn is_empty(&self) -> bool {
+        self.time_signature.is_none() && self.tempo_range_bpm.is_none()
+    }
+
+    /// Refuses hints the tracker cannot follow: an invalid time signature or one of more
+    /// than [`HINT_MAX_BEATS_PER_BAR`] beats, and a tempo range that is not increasing
+    /// within [`HINT_TEMPO_RANGE_BPM`].
+    pub fn check(&self) -> Result<()> {
+        if let Some(ts) = self.time_signature {
+            if !ts.is_valid() || ts.meter().beats_per_bar > HINT_MAX_BEATS_PER_BAR {
+                return Err(Error::BeatHint(format!(
+                    "time signature {ts}: give one of at most {HINT_MAX_BEATS_PER_BAR} beats per bar, e.g. 3/4 or 6/8"
+                )));
+            }
+        }
+        if let Some((lo, hi)) = self.tempo_range_bpm {
+            let (min, max) = HINT_TEMPO_RANGE_BPM;
+            if !(lo.is_finite() && hi.is_finite() && min <= lo && lo < hi && hi <= max) {
+                return Err(Error::BeatHint(format!(
+                    "tempo range {lo}–{hi} bpm: give a slowest tempo below the fastest, both within {min}–{max} bpm"
+                )));
+            }
+        }
+        Ok(())
+    }
+
+    /// The decoder settings with the hints applied.
+    fn decoder_config(&self) -> BarPointerConfig {
+        let mut cfg = BarPointerConfig::default();
+        if let Some(ts) = self.time_signature {
+            cfg.beats_per_bar = vec![usize::from(ts.meter().beats_per_bar)];
+            cfg.bar_length_prior_per_frame = Vec::new();
+        }
+        if let Some((lo, hi)) = self.tempo_range_bpm {
+            cfg.min_bpm = lo;
+            cfg.max_bpm = hi;
+        }
+        cfg
+    }
+}
+
 /// What either tracker found.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct Beats {
@@ -53,8 +126,14 @@ pub(crate) const BOW_CHANGE_DOWNBEAT_BONUS: f32 = 1.0;
 
 /// The learned path: bar-pointer decoding of `act`, the bars phased on the bow changes;
 /// compound or simple from the notes.
-pub(crate) fn learned(act: &Activations, notes: &[Note], bow_changes_s: &[f64]) -> Result<Beats> {
-    let cfg = BarPointerConfig::default();
+pub(crate) fn learned(
+    act: &Activations,
+    notes: &[Note],
+    bow_changes_s: &[f64],
+    hints: &BeatHints,
+) -> Result<Beats> {
+    hints.check()?;
+    let cfg = hints.decoder_config();
     let frames = act.beat.len();
     let mut evidence = vec![0.0f32; frames];
     for &c in bow_changes_s {
@@ -70,9 +149,12 @@ pub(crate) fn learned(act: &Activations, notes: &[Note], bow_changes_s: &[f64]) 
     let decoded =
         bar_pointer::decode_with_downbeat_evidence(&act.beat, &act.downbeat, &evidence, &cfg)?;
     let onsets: Vec<f64> = notes.iter().map(|n| n.onset_s).collect();
-    let meter = (!decoded.beats_s.is_empty()).then(|| Meter {
-        beats_per_bar: decoded.beats_per_bar.min(usize::from(u8::MAX)) as u8,
-        subdivisions: beat_track::subdivisions(&decoded.beats_s, &onsets),
+    let meter = (!decoded.beats_s.is_empty()).then(|| match hints.time_signature {
+        Some(ts) => ts.meter(),
+        None => Meter {
+            beats_per_bar: decoded.beats_per_bar.min(usize::from(u8::MAX)) as u8,
+            subdivisions: beat_track::subdivisions(&decoded.beats_s, &onsets),
+        },
     });
     Ok(Beats {
         beats_s: decoded.beats_s,
@@ -112,10 +194,65 @@ mod tests {
             beat: vec![0.0; 900],
             downbeat: vec![0.0; 900],
         };
-        let b = learned(&act, &[], &[1.0, 2.0]).unwrap();
+        let b = learned(&act, &[], &[1.0, 2.0], &BeatHints::default()).unwrap();
         assert!(b.beats_s.is_empty() && b.meter.is_none());
         assert_eq!(b.confidence, Some(0.0));
         assert_eq!("classic".parse::<BeatMethod>(), Ok(BeatMethod::Classic));
         assert!("x".parse::<BeatMethod>().is_err());
+    }
+
+    /// 30 s at 120 bpm, every beat alike (a downbeat probability of 0.3 on each): the bar
+    /// length and the tempo level are the hints' to choose.
+    fn ambiguous() -> Activations {
+        let (mut beat, mut downbeat) = (vec![0.01f32; 900], vec![0.01f32; 900]);
+        for k in (0..900).step_by(15) {
+            beat[k] = 0.6;
+            downbeat[k] = 0.3;
+        }
+        Activations { beat, downbeat }
+    }
+
+    #[test]
+    fn hints_set_the_bar_and_the_tempo_level() {
+        let act = ambiguous();
+        let with = |ts: Option<&str>, tempo: Option<(f64, f64)>| {
+            let hints = BeatHints {
+                time_signature: ts.map(|t| t.parse().unwrap()),
+                tempo_range_bpm: tempo,
+            };
+            learned(&act, &[], &[], &hints).unwrap()
+        };
+        for (ts, meter) in [
+            ("3/4", Meter::THREE_FOUR),
+            ("4/4", Meter::FOUR_FOUR),
+            ("6/8", Meter::SIX_EIGHT),
+        ] {
+            let b = with(Some(ts), None);
+            assert_eq!(b.meter, Some(meter), "{ts}");
+            let per_bar = b.beats_s.len() as f64 / b.downbeats_s.len() as f64;
+            assert!(
+                (per_bar - f64::from(meter.beats_per_bar)).abs() < 0.3,
+                "{ts}: {per_bar}"
+            );
+            assert!((b.tempo_bpm - 120.0).abs() < 3.0, "{ts}: {}", b.tempo_bpm);
+        }
+        // Every other beat when the user says the tempo is near 60.
+        let slow = with(None, Some((52.0, 69.0)));
+        assert!((slow.tempo_bpm - 60.0).abs() < 2.0, "{}", slow.tempo_bpm);
+        // Hints the decoder cannot follow are refused.
+        let bad = BeatHints {
+            tempo_range_bpm: Some((90.0, 80.0)),
+            ..BeatHints::default()
+        };
+        assert!(matches!(
+            learned(&act, &[], &[], &bad),
+            Err(Error::BeatHint(_))
+        ));
+        let long_bar = BeatHints {
+            time_signature: Some(TimeSignature::new(13, 4)),
+            ..BeatHints::default()
+        };
+        assert!(long_bar.check().is_err());
+        assert!(BeatHints::default().check().is_ok() && BeatHints::default().is_empty());
     }
 }

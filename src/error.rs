@@ -57,6 +57,9 @@ pub enum Error {
     /// A network failed or its weights do not fit.
     #[error("{0}")]
     Network(String),
+    /// A time-signature or tempo hint that cannot be used.
+    #[error("{0}")]
+    BeatHint(String),
 }
 
 /// `Result` with the facade's [`Error`].

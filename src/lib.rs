@@ -24,6 +24,7 @@
 
 mod analysis_performance;
 mod beats;
+mod builder;
 mod chunking;
 mod error;
 mod fingering_plan;
@@ -36,7 +37,8 @@ mod pipeline;
 mod strokes;
 mod timings;
 
-pub use beats::BeatMethod;
+pub use beats::{BeatHints, BeatMethod, HINT_MAX_BEATS_PER_BAR, HINT_TEMPO_RANGE_BPM};
+pub use builder::PipelineBuilder;
 pub use chunking::Chunking;
 pub use error::{Error, Result};
 pub use fingering::{FingeringStyle, ViolinString};
@@ -45,10 +47,10 @@ pub use fingering_plan::{PlannerKind, SulSpan};
 pub use midi_analysis::MIDI_F0_HOP_S;
 pub use networks::BowingNetwork;
 pub use performance::{Analysis, ArousalCurve, F0Track, Note};
-pub use performance::{BowDirection, BowStroke, Meter};
+pub use performance::{BowDirection, BowStroke, Meter, TimeSignature};
 pub use pipeline::{
-    Method, Pipeline, PipelineBuilder, StageTimings, BOW_CHANGE_ONSET_LEAD_S,
-    BOW_CHANGE_SPLIT_MIN_PART_S, MIN_DURATION_S,
+    Method, Pipeline, StageTimings, BOW_CHANGE_ONSET_LEAD_S, BOW_CHANGE_SPLIT_MIN_PART_S,
+    MIN_DURATION_S,
 };
 
 pub use dsp_mel::{load_audio, load_audio_at, Audio, AudioReader};

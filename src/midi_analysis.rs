@@ -50,6 +50,7 @@ impl Pipeline {
     /// arousal from velocity and note density; f0 of the highest sounding note.
     /// `sample_rate` is 0 (no audio).
     pub fn analyze_midi_file(&self, path: impl AsRef<Path>) -> Result<Analysis> {
+        self.refuse_beat_hints_for_midi()?;
         let score = score_from_midi_file(path, &self.midi_options())?;
         Ok(self.analyze_midi_score(&score))
     }

@@ -5,15 +5,16 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use dsp_mel::{resample, Audio, DEFAULT_ANALYSIS_RATE_HZ};
-use fingering::{Fingering, FingeringStyle, ViolinString};
-use motion_synth::{synthesize, Camera, SynthConfig};
+use fingering::{Fingering, FingeringStyle};
+use motion_synth::{synthesize, SynthConfig};
 use performance::{Analysis, ArousalCurve, Note, Performance};
 use pitch_track::{
     segment_notes, split_notes_at, start_notes_at, NoteConfig, PitchConfig, PitchTracker,
 };
 use skeleton::Motion;
 
-use crate::beats::{self, BeatMethod};
+use crate::beats::{self, BeatHints, BeatMethod};
+use crate::builder::PipelineBuilder;
 use crate::chunking::Chunking;
 use crate::error::{Error, Result};
 use crate::fingering_plan::{plan_notes, PlannerKind, SulSpan};
@@ -63,175 +64,37 @@ pub const BOW_CHANGE_ONSET_LEAD_S: f64 = 0.06;
 /// ```
 #[derive(Debug, Clone, Default)]
 pub struct Pipeline {
-    method: Method,
-    planner: PlannerKind,
-    style: FingeringStyle,
-    sul: Vec<SulSpan>,
-    transpose_into_range: bool,
-    max_duration_s: Option<u32>,
-    synth: SynthConfig,
-    bowing_file: Option<BowingFile>,
-    bowing_network: BowingNetwork,
-    emotion_weights: Option<PathBuf>,
-    beat_weights: Option<PathBuf>,
-    gru_weights: Option<PathBuf>,
-    chunking: Chunking,
-    beat_method: BeatMethod,
-    models: Arc<LoadedModels>,
-}
-
-/// Builder of a [`Pipeline`].
-#[derive(Debug, Clone, Default)]
-pub struct PipelineBuilder {
-    inner: Pipeline,
-}
-
-impl PipelineBuilder {
-    /// Method 1 (GRU) or Method 2 (rules, default).
-    pub fn method(mut self, method: Method) -> Self {
-        self.inner.method = method;
-        self
-    }
-
-    /// The fingering planner.
-    pub fn planner(mut self, planner: PlannerKind) -> Self {
-        self.inner.planner = planner;
-        self
-    }
-
-    /// Style knobs of the optimal and learned planners: open strings, low or high
-    /// positions ([`FingeringStyle`]; its `sul` passages count notes — use
-    /// [`PipelineBuilder::sul`] for passages in seconds). The greedy rule has no knobs.
-    pub fn fingering_style(mut self, style: FingeringStyle) -> Self {
-        self.inner.style = style;
-        self
-    }
-
-    /// Keeps the notes starting in `[from_s, to_s)` on `string` wherever it can play them
-    /// (*sul G* etc.; optimal and learned planners).
-    pub fn sul(mut self, string: ViolinString, from_s: f64, to_s: f64) -> Self {
-        self.inner.sul.push(SulSpan {
-            string,
-            from_s,
-            to_s,
-        });
-        self
-    }
-
-    /// MIDI input: move notes outside G3..A7 by octaves into the range instead of refusing
-    /// the file.
-    pub fn transpose_into_range(mut self, yes: bool) -> Self {
-        self.inner.transpose_into_range = yes;
-        self
-    }
-
-    /// Refuse inputs longer than this many seconds: audio whose container announces a longer
-    /// length (or that runs past it while being read) and MIDI files whose notes sound past
-    /// it. Default: audio of any length (it is analysed in pieces), MIDI up to
-    /// [`performance::midi::MAX_DURATION_S`].
-    pub fn max_duration_s(mut self, seconds: u32) -> Self {
-        self.inner.max_duration_s = Some(seconds);
-        self
-    }
-
-    /// The camera that projects the 3-D rig to pixels.
-    pub fn camera(mut self, camera: Camera) -> Self {
-        self.inner.synth.camera = camera;
-        self
-    }
-
-    /// All synthesis settings at once (rig, camera, frame rate, …).
-    pub fn synth_config(mut self, cfg: SynthConfig) -> Self {
-        self.inner.synth = cfg;
-        self
-    }
-
-    /// Bowing weights trained with `violin-skeleton train bowing` or the `train_strokes`
-    /// example (the stroke network or the CNN, told apart by the file). The file's network
-    /// runs alone, with its own decoder: it is not averaged with the other network, and
-    /// [`PipelineBuilder::bowing_network`] is then not used (to run a retrained stroke
-    /// network inside the ensemble, see [`PipelineBuilder::stroke_weights`]). Replaces an
-    /// earlier `stroke_weights` or `ensemble_cnn_weights`. Default: the embedded model that
-    /// [`PipelineBuilder::bowing_network`] chooses (the ensemble).
-    pub fn bowing_weights(mut self, path: impl Into<PathBuf>) -> Self {
-        self.inner.bowing_file = Some(BowingFile::Alone(path.into()));
-        self
-    }
-
-    /// Stroke-network weights from the `train_strokes` example in place of the embedded
-    /// stroke network, inside the model [`PipelineBuilder::bowing_network`] chooses: with
-    /// [`BowingNetwork::Ensemble`] (the default) averaged with the embedded CNN and picked by
-    /// the file's ensemble decoder, exactly as the shipped model is; with
-    /// [`BowingNetwork::Strokes`] alone. With [`BowingNetwork::Cnn`], or a file without an
-    /// ensemble decoder for the ensemble, analysis fails with an error naming the file.
-    /// Replaces an earlier `bowing_weights`.
-    pub fn stroke_weights(mut self, path: impl Into<PathBuf>) -> Self {
-        let old = self.inner.bowing_file.take();
-        self.inner.bowing_file = Some(BowingFile::with_parts(old, Some(path.into()), None));
-        self
-    }
-
-    /// Bow-change CNN weights from `violin-skeleton train bowing` in place of the embedded
-    /// ensemble's CNN, averaged with the stroke network (the embedded one, or a
-    /// [`PipelineBuilder::stroke_weights`] file) by the stroke network's ensemble decoder.
-    /// Only for [`BowingNetwork::Ensemble`]: with another network, or a stroke-network file,
-    /// analysis fails with an error naming the file. Replaces an earlier `bowing_weights`.
-    pub fn ensemble_cnn_weights(mut self, path: impl Into<PathBuf>) -> Self {
-        let old = self.inner.bowing_file.take();
-        self.inner.bowing_file = Some(BowingFile::with_parts(old, None, Some(path.into())));
-        self
-    }
-
-    /// The embedded bowing model used when no weights file is given, or the model a
-    /// [`PipelineBuilder::stroke_weights`] file goes into.
-    pub fn bowing_network(mut self, network: BowingNetwork) -> Self {
-        self.inner.bowing_network = network;
-        self
-    }
-
-    /// Arousal CRNN weights trained with `violin-skeleton train emotion`.
-    pub fn emotion_weights(mut self, path: impl Into<PathBuf>) -> Self {
-        self.inner.emotion_weights = Some(path.into());
-        self
-    }
-
-    /// Beat/downbeat activation weights trained with the `train_beats` example (used with
-    /// [`BeatMethod::Learned`]).
-    pub fn beat_weights(mut self, path: impl Into<PathBuf>) -> Self {
-        self.inner.beat_weights = Some(path.into());
-        self
-    }
-
-    /// Method 1 GRU weights trained with `violin-skeleton train gru`.
-    pub fn gru_weights(mut self, path: impl Into<PathBuf>) -> Self {
-        self.inner.gru_weights = Some(path.into());
-        self
-    }
-
-    /// The beat tracker of the audio analysis (default: learned).
-    pub fn beat_method(mut self, method: BeatMethod) -> Self {
-        self.inner.beat_method = method;
-        self
-    }
-
-    /// How files longer than three minutes are cut for [`Pipeline::analyze_file`].
-    pub fn chunking(mut self, chunking: Chunking) -> Self {
-        self.inner.chunking = chunking;
-        self
-    }
-
-    /// The pipeline. Weight files given to the builder are read when first needed, and a
-    /// file that does not fit is reported then.
-    pub fn build(mut self) -> Pipeline {
-        self.inner.models = Arc::default();
-        self.inner
-    }
+    pub(crate) method: Method,
+    pub(crate) planner: PlannerKind,
+    pub(crate) style: FingeringStyle,
+    pub(crate) sul: Vec<SulSpan>,
+    pub(crate) transpose_into_range: bool,
+    pub(crate) max_duration_s: Option<u32>,
+    pub(crate) synth: SynthConfig,
+    pub(crate) bowing_file: Option<BowingFile>,
+    pub(crate) bowing_network: BowingNetwork,
+    pub(crate) emotion_weights: Option<PathBuf>,
+    pub(crate) beat_weights: Option<PathBuf>,
+    pub(crate) gru_weights: Option<PathBuf>,
+    pub(crate) chunking: Chunking,
+    pub(crate) beat_method: BeatMethod,
+    pub(crate) beat_hints: BeatHints,
+    pub(crate) models: Arc<LoadedModels>,
 }
 
 impl Pipeline {
     /// A builder starting from the defaults.
     pub fn builder() -> PipelineBuilder {
         PipelineBuilder::default()
+    }
+
+    /// This pipeline with other beat hints, sharing its loaded models (e.g. one hint per
+    /// recording of a collection).
+    pub fn with_beat_hints(&self, hints: BeatHints) -> Pipeline {
+        Pipeline {
+            beat_hints: hints,
+            ..self.clone()
+        }
     }
 
     /// The synthesis settings.
@@ -272,6 +135,18 @@ impl Pipeline {
 
     /// The MIDI reading options.
     #[cfg(feature = "midi")]
+    /// Refuses beat hints for a MIDI file, whose tempo map and time signatures are used.
+    #[cfg(feature = "midi")]
+    pub(crate) fn refuse_beat_hints_for_midi(&self) -> Result<()> {
+        if self.beat_hints.is_empty() {
+            return Ok(());
+        }
+        Err(Error::BeatHint(
+            "time-signature and tempo hints apply to audio; a MIDI file's own tempo map and time signatures are used"
+                .into(),
+        ))
+    }
+
     pub(crate) fn midi_options(&self) -> performance::midi::MidiOptions {
         let defaults = performance::midi::MidiOptions::default();
         performance::midi::MidiOptions {
@@ -288,6 +163,13 @@ impl Pipeline {
 
     /// [`Pipeline::analyze`], also telling how long each stage took.
     pub fn analyze_timed(&self, audio: &Audio) -> Result<(Analysis, StageTimings)> {
+        if self.beat_method == BeatMethod::Classic && !self.beat_hints.is_empty() {
+            return Err(Error::BeatHint(
+                "time-signature and tempo hints need the learned beat tracker, not the classic one"
+                    .into(),
+            ));
+        }
+        self.beat_hints.check()?;
         let mut timings = StageTimings::default();
         let clock = Instant::now();
         let analysed = resample(audio, DEFAULT_ANALYSIS_RATE_HZ)?;
@@ -335,7 +217,7 @@ impl Pipeline {
         let bow_changes_s = bowed.bow_changes_s.clone();
         let clock = Instant::now();
         let beats = match &activations {
-            Some(act) => beats::learned(act, &notes, &bow_changes_s)?,
+            Some(act) => beats::learned(act, &notes, &bow_changes_s, &self.beat_hints)?,
             None => beats::classic(samples, &notes, &bow_changes_s)?,
         };
         let beats_s = clock.elapsed().as_secs_f64();
@@ -426,6 +308,7 @@ impl Pipeline {
     /// The [`Performance`] of a MIDI file (its melodic line; see `performance::midi`).
     #[cfg(feature = "midi")]
     pub fn performance_from_midi(&self, path: impl AsRef<std::path::Path>) -> Result<Performance> {
+        self.refuse_beat_hints_for_midi()?;
         let mut timeline =
             performance::midi::timeline_from_midi_file_with(path, &self.midi_options())?;
         let notes: Vec<Note> = timeline.notes.iter().map(|n| n.note).collect();
