@@ -20,6 +20,7 @@ use clap::Args;
 use violin_skeleton::{Analysis, Pipeline};
 
 use crate::batch::BatchArgs;
+use crate::beat_hint_args::BeatHintArgs;
 use crate::contract::{check_outputs, named};
 use crate::error::CliError;
 use crate::fingering_args::FingeringArgs;
@@ -31,7 +32,7 @@ use crate::Reporter;
 /// Arguments of `analyze`.
 #[derive(Debug, Args)]
 #[command(
-    after_help = "Examples:\n  violin-skeleton analyze take1.wav -o analysis.json\n  violin-skeleton analyze take1.flac --f0-fps 30 -o take1_analysis.json\n  violin-skeleton analyze piece.mid -o piece_analysis.json --planner learned --sul G@12-20"
+    after_help = "Examples:\n  violin-skeleton analyze take1.wav -o analysis.json\n  violin-skeleton analyze take1.flac --f0-fps 30 -o take1_analysis.json\n  violin-skeleton analyze minuet.wav --time-signature 3/4 --tempo-bpm 120 -o minuet.json\n  violin-skeleton analyze piece.mid -o piece_analysis.json --planner learned --sul G@12-20"
 )]
 pub struct AnalyzeArgs {
     /// Audio file (wav, flac, mp3, ogg) or MIDI file (.mid, .midi); or a folder: every such
@@ -53,6 +54,9 @@ pub struct AnalyzeArgs {
     /// Input limits.
     #[command(flatten)]
     pub limits: InputLimits,
+    /// What is known of the beat.
+    #[command(flatten)]
+    pub beat_hints: BeatHintArgs,
     /// Batch mode (a folder as input).
     #[command(flatten)]
     pub batch: BatchArgs,
@@ -67,6 +71,7 @@ pub fn run(args: &AnalyzeArgs, report: &Reporter) -> Result<(), CliError> {
             )));
         }
     }
+    args.beat_hints.check(args.weights.beats, &args.input)?;
     if args.input.is_dir() {
         return run_folder(args, report);
     }
@@ -127,12 +132,10 @@ pub fn run(args: &AnalyzeArgs, report: &Reporter) -> Result<(), CliError> {
 
 /// The pipeline the flags describe.
 fn pipeline_of(args: &AnalyzeArgs) -> Pipeline {
-    args.limits
-        .apply(
-            args.fingering
-                .apply(args.weights.apply(Pipeline::builder())),
-        )
-        .build()
+    let builder = args
+        .fingering
+        .apply(args.weights.apply(Pipeline::builder()));
+    args.beat_hints.apply(args.limits.apply(builder)).build()
 }
 
 /// `analyze DIR -o OUTDIR`: every music file under `DIR` (see [`crate::batch`]).

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::{Args, ValueEnum};
-use violin_train::evaluate::{evaluate_dir, SplitChoice};
+use violin_train::evaluate::{evaluate_dir_with_hints, LabelHints, SplitChoice};
 
 use crate::error::CliError;
 use crate::fingering_args::{FingeringArgs, PlannerArg};
@@ -49,6 +49,24 @@ pub struct EvaluateArgs {
     /// Network weight files (default: the embedded ones).
     #[command(flatten)]
     pub weights: NetworkWeights,
+    /// Give each corpus item's labelled time signature, nominal tempo (±15 %) or both to
+    /// the beat tracker, as a user who knows them would (`--time-signature`,
+    /// `--tempo-bpm`); default: none, the blind analysis.
+    #[arg(long, value_enum, default_value_t = HintsArg::None)]
+    pub hints: HintsArg,
+}
+
+/// `evaluate --hints`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum HintsArg {
+    /// No hints.
+    None,
+    /// The time signature.
+    TimeSignature,
+    /// The nominal tempo ±15 %.
+    Tempo,
+    /// Both.
+    Both,
 }
 
 /// Runs `evaluate`.
@@ -71,10 +89,23 @@ pub fn run(args: &EvaluateArgs, report: &Reporter) -> Result<(), CliError> {
     };
     let t0 = Instant::now();
     let bar = report.progress(1, "evaluating (recordings)");
-    let result = evaluate_dir(&pipeline, &args.data, split, args.limit, |done, total| {
-        bar.set_length(total as u64);
-        bar.set_position(done as u64);
-    })?;
+    let hints = match args.hints {
+        HintsArg::None => LabelHints::None,
+        HintsArg::TimeSignature => LabelHints::TimeSignature,
+        HintsArg::Tempo => LabelHints::Tempo,
+        HintsArg::Both => LabelHints::Both,
+    };
+    let result = evaluate_dir_with_hints(
+        &pipeline,
+        &args.data,
+        split,
+        args.limit,
+        hints,
+        |done, total| {
+            bar.set_length(total as u64);
+            bar.set_position(done as u64);
+        },
+    )?;
     bar.finish_and_clear();
     if let Some(path) = &args.report {
         write_atomically(path, |w| {

@@ -8,6 +8,7 @@ use violin_skeleton::skeleton::formats::OpenPoseOptions;
 use violin_skeleton::{Canvas, Method, Motion, MotionFormat, Pipeline, PipelineBuilder};
 
 use crate::batch::BatchArgs;
+use crate::beat_hint_args::BeatHintArgs;
 use crate::contract::{check_outputs, named, refuse_stdout_folder};
 use crate::error::CliError;
 use crate::fingering_args::FingeringArgs;
@@ -69,7 +70,7 @@ impl OutFormat {
 /// Arguments of `generate`.
 #[derive(Debug, Args)]
 #[command(
-    after_help = "Examples:\n  violin-skeleton generate take1.wav -o take1.json\n  violin-skeleton generate take1.flac -o take1_openpose --format openpose --preview take1.html\n  violin-skeleton generate piece.mid -o piece.bvh\n  violin-skeleton generate take1.wav -o take1.glb --preview take1.mp4\n  violin-skeleton generate take1.wav -o m1.json --method gru"
+    after_help = "Examples:\n  violin-skeleton generate take1.wav -o take1.json\n  violin-skeleton generate take1.flac -o take1_openpose --format openpose --preview take1.html\n  violin-skeleton generate piece.mid -o piece.bvh\n  violin-skeleton generate jig.wav -o jig.json --time-signature 6/8 --tempo-bpm 100-130\n  violin-skeleton generate take1.wav -o take1.glb --preview take1.mp4\n  violin-skeleton generate take1.wav -o m1.json --method gru"
 )]
 pub struct GenerateArgs {
     /// Audio (wav, flac, mp3, ogg) or MIDI (.mid, .midi); or a folder: every such file
@@ -90,6 +91,9 @@ pub struct GenerateArgs {
     /// Input limits.
     #[command(flatten)]
     pub limits: InputLimits,
+    /// What is known of the beat.
+    #[command(flatten)]
+    pub beat_hints: BeatHintArgs,
     /// Also write a preview: `.gif`, `.html` (a player with the sound: audio up to 2 MiB
     /// embedded, larger audio linked beside the page, MIDI notes synthesized in the browser)
     /// or `.mp4` (H.264 with the audio as AAC; needs ffmpeg; a MIDI input gives a silent video).
@@ -171,6 +175,14 @@ pub fn pipeline_builder_for(
 
 /// Runs `generate`.
 pub fn run(args: &GenerateArgs, report: &Reporter) -> Result<(), CliError> {
+    args.beat_hints
+        .check(args.weights.analysis.beats, &args.input)?;
+    if matches!(args.method, MethodArg::Gru) && !args.beat_hints.hints().is_empty() {
+        return Err(CliError::Usage(
+            "--time-signature and --tempo-bpm steer the analysis of --method rules; Method 1 (gru) does not track beats, so drop them"
+                .into(),
+        ));
+    }
     if args.input.is_dir() {
         return run_folder(args, report);
     }
@@ -245,13 +257,8 @@ pub fn run(args: &GenerateArgs, report: &Reporter) -> Result<(), CliError> {
 
 /// The pipeline the method, fingering, weight and limit flags describe.
 fn pipeline_of(args: &GenerateArgs) -> Pipeline {
-    args.limits
-        .apply(pipeline_builder_for(
-            args.method,
-            &args.fingering,
-            &args.weights,
-        ))
-        .build()
+    let builder = pipeline_builder_for(args.method, &args.fingering, &args.weights);
+    args.beat_hints.apply(args.limits.apply(builder)).build()
 }
 
 /// `generate DIR -o OUTDIR`: every music file under `DIR` (see [`crate::batch`]).

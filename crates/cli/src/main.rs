@@ -5,6 +5,7 @@
 
 mod analyze;
 mod batch;
+mod beat_hint_args;
 mod contract;
 mod corpus_cmd;
 mod demo;

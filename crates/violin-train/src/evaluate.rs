@@ -2,6 +2,7 @@
 //! a URMP-layout folder. Every recording goes through the same [`Pipeline`] a user runs.
 
 mod datasets;
+mod hints;
 mod scores;
 mod strokes;
 
@@ -11,6 +12,7 @@ use std::time::Instant;
 use skeleton::{Joint, Motion};
 
 pub use datasets::{find_recordings, LabelledRecording, Layout, References, SplitChoice};
+pub use hints::{hints_from_labels, LabelHints, TEMPO_HINT_TOLERANCE};
 pub use scores::{EvaluationReport, EventCounts, RecordingScores, ScoreSummary};
 pub use strokes::{direction_tally, string_tally, StrokeReferences, Tally};
 
@@ -161,6 +163,19 @@ pub fn evaluate_dir(
     dir: &Path,
     split: SplitChoice,
     limit: Option<usize>,
+    progress: impl FnMut(usize, usize),
+) -> Result<EvaluationReport> {
+    evaluate_dir_with_hints(pipeline, dir, split, limit, LabelHints::None, progress)
+}
+
+/// [`evaluate_dir`], each corpus item analysed with the beat hints `hints` asks for from
+/// its labels (what a user who knows the time signature or the tempo gets).
+pub fn evaluate_dir_with_hints(
+    pipeline: &Pipeline,
+    dir: &Path,
+    split: SplitChoice,
+    limit: Option<usize>,
+    hints: LabelHints,
     mut progress: impl FnMut(usize, usize),
 ) -> Result<EvaluationReport> {
     let (layout, mut recordings) = find_recordings(dir, split)?;
@@ -170,7 +185,14 @@ pub fn evaluate_dir(
     let total = recordings.len();
     let mut rows = Vec::with_capacity(total);
     for (i, rec) in recordings.iter().enumerate() {
-        rows.push(evaluate_recording(pipeline, rec)?);
+        let row = match rec.corpus_item_dir() {
+            Some(item) if hints != LabelHints::None => {
+                let hinted = pipeline.with_beat_hints(hints_from_labels(item, hints));
+                evaluate_recording(&hinted, rec)?
+            }
+            _ => evaluate_recording(pipeline, rec)?,
+        };
+        rows.push(row);
         progress(i + 1, total);
     }
     let method = match pipeline.method() {

@@ -66,7 +66,7 @@ impl SplitChoice {
 
 /// Where one recording's labels are.
 #[derive(Debug, Clone, PartialEq)]
-enum LabelSource {
+pub(super) enum LabelSource {
     Corpus { dir: PathBuf, tuning_cents: f64 },
     Urmp { openpose: PathBuf },
 }
@@ -81,7 +81,7 @@ pub struct LabelledRecording {
     pub group: String,
     /// The audio file.
     pub audio: PathBuf,
-    labels: LabelSource,
+    pub(super) labels: LabelSource,
 }
 
 /// A frame-time → reference f0 function: `Some(hz)` (0 unvoiced) or `None` where the labels

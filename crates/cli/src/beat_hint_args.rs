@@ -1,0 +1,116 @@
+//! `--time-signature` and `--tempo-bpm`: what the user knows about a recording's beat.
+
+use std::path::Path;
+
+use clap::Args;
+use violin_skeleton::{
+    BeatHints, PipelineBuilder, TimeSignature, HINT_MAX_BEATS_PER_BAR, HINT_TEMPO_RANGE_BPM,
+};
+
+use crate::error::CliError;
+use crate::motion_of::is_midi;
+use crate::weight_args::BeatArg;
+
+/// How far either side of a single `--tempo-bpm` value the tempo may lie.
+pub const SINGLE_TEMPO_TOLERANCE: f64 = 0.15;
+
+/// The beat hints of the commands that analyse audio.
+#[derive(Debug, Clone, Default, Args)]
+pub struct BeatHintArgs {
+    /// The written time signature, e.g. 3/4, 4/4, 6/8 or 2/2: the bar length is then taken
+    /// from it instead of guessed (audio, learned beat tracker).
+    #[arg(long, value_name = "N/D")]
+    pub time_signature: Option<TimeSignature>,
+    /// The tempo at the notated beat (a quarter in 4/4, a dotted quarter in 6/8): one value
+    /// (then ±15 %) or a range, e.g. 120 or 100-140 (audio, learned beat tracker).
+    #[arg(long, value_name = "BPM|LO-HI", value_parser = parse_tempo_range)]
+    pub tempo_bpm: Option<(f64, f64)>,
+}
+
+impl BeatHintArgs {
+    /// The hints as the facade takes them.
+    pub fn hints(&self) -> BeatHints {
+        BeatHints {
+            time_signature: self.time_signature,
+            tempo_range_bpm: self.tempo_bpm,
+        }
+    }
+
+    /// Refuses, before any file is read, hints the run cannot use: with `--beats classic`,
+    /// a bar longer than the tracker follows, or a MIDI `input` (a folder's MIDI files are
+    /// refused one by one).
+    pub fn check(&self, beats: BeatArg, input: &Path) -> Result<(), CliError> {
+        if self.hints().is_empty() {
+            return Ok(());
+        }
+        if beats == BeatArg::Classic {
+            return Err(CliError::Usage(
+                "--time-signature and --tempo-bpm need the learned beat tracker: drop --beats classic"
+                    .into(),
+            ));
+        }
+        if let Some(ts) = self.time_signature {
+            if ts.meter().beats_per_bar > HINT_MAX_BEATS_PER_BAR {
+                return Err(CliError::Usage(format!(
+                    "--time-signature {ts}: the beat tracker follows at most {HINT_MAX_BEATS_PER_BAR} beats per bar; give the bar as it is written, e.g. 3/4 or 6/8"
+                )));
+            }
+        }
+        if is_midi(input) {
+            return Err(CliError::Usage(format!(
+                "{}: --time-signature and --tempo-bpm apply to audio; a MIDI file's own tempo map and time signatures are used, so drop them",
+                input.display()
+            )));
+        }
+        Ok(())
+    }
+
+    /// Sets the hints on a pipeline builder.
+    pub fn apply(&self, builder: PipelineBuilder) -> PipelineBuilder {
+        builder.beat_hints(self.hints())
+    }
+}
+
+/// `120` → 102–138, `100-140` → 100–140; both ends within the facade's range.
+pub fn parse_tempo_range(text: &str) -> Result<(f64, f64), String> {
+    let (min, max) = HINT_TEMPO_RANGE_BPM;
+    let bad = || {
+        format!(
+            "\"{text}\" is not a tempo: give beats per minute (e.g. 120) or a range (e.g. 100-140), within {min}-{max}"
+        )
+    };
+    let number = |t: &str| t.trim().parse::<f64>().map_err(|_| bad());
+    let (lo, hi) = match text.split_once('-') {
+        Some((a, b)) => (number(a)?, number(b)?),
+        None => {
+            let bpm = number(text)?;
+            (
+                bpm / (1.0 + SINGLE_TEMPO_TOLERANCE),
+                bpm * (1.0 + SINGLE_TEMPO_TOLERANCE),
+            )
+        }
+    };
+    if lo.is_finite() && hi.is_finite() && min <= lo && lo < hi && hi <= max {
+        Ok((lo, hi))
+    } else {
+        Err(bad())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tempo_hints_parse_as_a_value_or_a_range() {
+        let (lo, hi) = parse_tempo_range("115").unwrap();
+        assert!((lo - 100.0).abs() < 1e-9 && (hi - 132.25).abs() < 1e-9);
+        assert_eq!(parse_tempo_range(" 60 - 80 ").unwrap(), (60.0, 80.0));
+        for bad in [
+            "", "fast", "80-60", "0", "-5", "60-", "5-30", "300-500", "NaN", "inf",
+        ] {
+            let e = parse_tempo_range(bad).unwrap_err();
+            assert!(e.contains("not a tempo"), "{bad}: {e}");
+        }
+    }
+}
