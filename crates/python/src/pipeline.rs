@@ -2,7 +2,7 @@
 //! without the GIL.
 
 use pyo3::prelude::*;
-use violin_skeleton::{BeatMethod, BowingNetwork, Method, Pipeline};
+use violin_skeleton::{BeatHints, BeatMethod, BowingNetwork, Method, Pipeline, TimeSignature};
 
 use crate::analysis::PyAnalysis;
 use crate::errors::{PyApiError, Result};
@@ -52,6 +52,48 @@ fn bowing_of(name: &str) -> Result<(BowingNetwork, &'static str)> {
     }
 }
 
+/// `time_signature="3/4"` and `tempo_bpm=120` (±15 %, as the CLI's `--tempo-bpm`) or
+/// `(100, 140)`, checked as the CLI checks them.
+fn hints_of(
+    time_signature: Option<&str>,
+    tempo_bpm: Option<&Bound<'_, PyAny>>,
+    beats: BeatMethod,
+) -> Result<BeatHints> {
+    let bad = |what: String| PyApiError::InvalidInput(what);
+    let time_signature = time_signature
+        .map(|t| {
+            t.parse::<TimeSignature>()
+                .map_err(|e| bad(format!("time_signature={t:?}: {e}")))
+        })
+        .transpose()?;
+    let tempo_range_bpm = match tempo_bpm {
+        None => None,
+        Some(v) if v.is_none() => None,
+        Some(v) => Some(if let Ok(bpm) = v.extract::<f64>() {
+            (bpm / 1.15, bpm * 1.15)
+        } else if let Ok(range) = v.extract::<(f64, f64)>() {
+            range
+        } else {
+            return Err(bad(
+                "tempo_bpm: expected beats per minute (e.g. 120) or a (slowest, fastest) pair"
+                    .into(),
+            ));
+        }),
+    };
+    let hints = BeatHints {
+        time_signature,
+        tempo_range_bpm,
+    };
+    if !hints.is_empty() && beats == BeatMethod::Classic {
+        return Err(bad(
+            "time_signature and tempo_bpm need the learned beat tracker: drop beats=\"classic\""
+                .into(),
+        ));
+    }
+    hints.check().map_err(|e| bad(e.to_string()))?;
+    Ok(hints)
+}
+
 impl PyPipeline {
     fn analyze_source(&self, source: &Source) -> Result<violin_skeleton::Analysis> {
         match source {
@@ -87,17 +129,27 @@ impl PyPipeline {
     /// A pipeline: `method` makes motion (`"rules"`: analysis → rule-based synthesis;
     /// `"gru"`: the learned baseline), `beats` picks the beat tracker (`"learned"` or
     /// `"classic"`), `bowing_net` the embedded bowing model (`"ensemble"`, `"strokes"`,
-    /// `"cnn"`). The defaults are the command-line tool's.
+    /// `"cnn"`). The defaults are the command-line tool's. What is known of the beat, for
+    /// audio: `time_signature` (e.g. `"3/4"`, `"6/8"`) and `tempo_bpm` at the notated beat
+    /// (`120`, taken ±15 %, or a `(slowest, fastest)` pair); MIDI files use their own.
     #[new]
-    #[pyo3(signature = (method = "rules", beats = "learned", bowing_net = "ensemble"))]
-    fn new(method: &str, beats: &str, bowing_net: &str) -> PyResult<Self> {
+    #[pyo3(signature = (method = "rules", beats = "learned", bowing_net = "ensemble", time_signature = None, tempo_bpm = None))]
+    fn new(
+        method: &str,
+        beats: &str,
+        bowing_net: &str,
+        time_signature: Option<&str>,
+        tempo_bpm: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Self> {
         let (m, method) = method_of(method)?;
         let (b, beats) = beats_of(beats)?;
         let (n, bowing_net) = bowing_of(bowing_net)?;
+        let hints = hints_of(time_signature, tempo_bpm, b)?;
         let inner = Pipeline::builder()
             .method(m)
             .beat_method(b)
             .bowing_network(n)
+            .beat_hints(hints)
             .build();
         Ok(Self {
             inner,

@@ -152,3 +152,20 @@ def test_gil_is_released_while_analysing(demo_samples):
     stop.set()
     t.join()
     assert during > 5, "the Python thread did not run while the analysis worked"
+
+
+def test_beat_hints_set_the_metre_and_tempo(demo_samples):
+    samples, rate = demo_samples
+    clip = samples[: rate * 10]
+    a = vs.Pipeline(time_signature="6/8", tempo_bpm=(52, 70)).analyze(clip, sr=rate)
+    meter = a.to_dict()["meter"]
+    assert (meter["beats_per_bar"], meter["subdivisions"]) == (2, 3)
+    assert 52 <= a.tempo_bpm <= 70
+    for bad in [
+        dict(time_signature="3/5"),
+        dict(tempo_bpm="fast"),
+        dict(tempo_bpm=(140, 100)),
+        dict(beats="classic", time_signature="3/4"),
+    ]:
+        with pytest.raises(ValueError):
+            vs.Pipeline(**bad)

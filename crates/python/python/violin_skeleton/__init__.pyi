@@ -94,8 +94,15 @@ class Pipeline:
     """Networks loaded once and reused; calls release the GIL."""
 
     def __init__(
-        self, method: str = "rules", beats: str = "learned", bowing_net: str = "ensemble"
-    ) -> None: ...
+        self,
+        method: str = "rules",
+        beats: str = "learned",
+        bowing_net: str = "ensemble",
+        time_signature: Optional[str] = None,
+        tempo_bpm: Union[float, Tuple[float, float], None] = None,
+    ) -> None:
+        """time_signature ("3/4", "6/8") and tempo_bpm at the notated beat (a value, taken
+        +-15 %, or a (slowest, fastest) pair) are what is known of an audio file's beat."""
     @property
     def method(self) -> str: ...
     def analyze(self, path_or_array: AudioInput, sr: SampleRate = None) -> Analysis: ...
