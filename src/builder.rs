@@ -166,3 +166,10 @@ impl PipelineBuilder {
         self.inner
     }
 }
+
+impl Pipeline {
+    /// A builder starting from the defaults.
+    pub fn builder() -> PipelineBuilder {
+        PipelineBuilder::default()
+    }
+}

@@ -14,7 +14,6 @@ use pitch_track::{
 use skeleton::Motion;
 
 use crate::beats::{self, BeatHints, BeatMethod};
-use crate::builder::PipelineBuilder;
 use crate::chunking::Chunking;
 use crate::error::{Error, Result};
 use crate::fingering_plan::{plan_notes, PlannerKind, SulSpan};
@@ -83,11 +82,6 @@ pub struct Pipeline {
 }
 
 impl Pipeline {
-    /// A builder starting from the defaults.
-    pub fn builder() -> PipelineBuilder {
-        PipelineBuilder::default()
-    }
-
     /// This pipeline with other beat hints, sharing its loaded models (e.g. one hint per
     /// recording of a collection).
     pub fn with_beat_hints(&self, hints: BeatHints) -> Pipeline {
@@ -128,7 +122,7 @@ impl Pipeline {
             .is_some())
     }
 
-    /// The longest input accepted ([`PipelineBuilder::max_duration_s`]), if any.
+    /// The longest input accepted ([`crate::PipelineBuilder::max_duration_s`]), if any.
     pub(crate) fn max_duration(&self) -> Option<f64> {
         self.max_duration_s.map(f64::from)
     }
