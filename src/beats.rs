@@ -62,6 +62,21 @@ pub const HINT_TEMPO_RANGE_BPM: (f64, f64) = (10.0, 400.0);
 /// Most beats per bar a time-signature hint may ask for (a 12/4 bar).
 pub const HINT_MAX_BEATS_PER_BAR: u8 = 12;
 
+/// How far either side of a single tempo (rather than a range) a hint reaches: the CLI's
+/// `--tempo-bpm 120`, Python's `tempo_bpm=120`, `evaluate --hints tempo`.
+pub const HINT_SINGLE_TEMPO_TOLERANCE: f64 = 0.15;
+
+/// The tempo range of a single-tempo hint: `bpm` ÷ and × (1 + [`HINT_SINGLE_TEMPO_TOLERANCE`]).
+///
+/// ```
+/// let (lo, hi) = violin_skeleton::hint_tempo_range_around(115.0);
+/// assert!((lo - 100.0).abs() < 1e-9 && (hi - 132.25).abs() < 1e-9);
+/// ```
+pub fn hint_tempo_range_around(bpm: f64) -> (f64, f64) {
+    let k = 1.0 + HINT_SINGLE_TEMPO_TOLERANCE;
+    (bpm / k, bpm * k)
+}
+
 impl BeatHints {
     /// Whether any hint is given.
     pub fn is_empty(&self) -> bool {

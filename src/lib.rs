@@ -37,7 +37,10 @@ mod pipeline;
 mod strokes;
 mod timings;
 
-pub use beats::{BeatHints, BeatMethod, HINT_MAX_BEATS_PER_BAR, HINT_TEMPO_RANGE_BPM};
+pub use beats::{
+    hint_tempo_range_around, BeatHints, BeatMethod, HINT_MAX_BEATS_PER_BAR,
+    HINT_SINGLE_TEMPO_TOLERANCE, HINT_TEMPO_RANGE_BPM,
+};
 pub use builder::PipelineBuilder;
 pub use chunking::Chunking;
 pub use error::{Error, Result};

@@ -4,15 +4,13 @@ use std::path::Path;
 
 use clap::Args;
 use violin_skeleton::{
-    BeatHints, PipelineBuilder, TimeSignature, HINT_MAX_BEATS_PER_BAR, HINT_TEMPO_RANGE_BPM,
+    hint_tempo_range_around, BeatHints, PipelineBuilder, TimeSignature, HINT_MAX_BEATS_PER_BAR,
+    HINT_TEMPO_RANGE_BPM,
 };
 
 use crate::error::CliError;
 use crate::motion_of::is_midi;
 use crate::weight_args::BeatArg;
-
-/// How far either side of a single `--tempo-bpm` value the tempo may lie.
-pub const SINGLE_TEMPO_TOLERANCE: f64 = 0.15;
 
 /// The beat hints of the commands that analyse audio.
 #[derive(Debug, Clone, Default, Args)]
@@ -71,7 +69,7 @@ impl BeatHintArgs {
     }
 }
 
-/// `120` → 102–138, `100-140` → 100–140; both ends within the facade's range.
+/// `115` → 100–132.25 (±15 %), `100-140` → 100–140; both ends within the facade's range.
 pub fn parse_tempo_range(text: &str) -> Result<(f64, f64), String> {
     let (min, max) = HINT_TEMPO_RANGE_BPM;
     let bad = || {
@@ -82,13 +80,7 @@ pub fn parse_tempo_range(text: &str) -> Result<(f64, f64), String> {
     let number = |t: &str| t.trim().parse::<f64>().map_err(|_| bad());
     let (lo, hi) = match text.split_once('-') {
         Some((a, b)) => (number(a)?, number(b)?),
-        None => {
-            let bpm = number(text)?;
-            (
-                bpm / (1.0 + SINGLE_TEMPO_TOLERANCE),
-                bpm * (1.0 + SINGLE_TEMPO_TOLERANCE),
-            )
-        }
+        None => hint_tempo_range_around(number(text)?),
     };
     if lo.is_finite() && hi.is_finite() && min <= lo && lo < hi && hi <= max {
         Ok((lo, hi))

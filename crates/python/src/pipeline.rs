@@ -2,7 +2,9 @@
 //! without the GIL.
 
 use pyo3::prelude::*;
-use violin_skeleton::{BeatHints, BeatMethod, BowingNetwork, Method, Pipeline, TimeSignature};
+use violin_skeleton::{
+    hint_tempo_range_around, BeatHints, BeatMethod, BowingNetwork, Method, Pipeline, TimeSignature,
+};
 
 use crate::analysis::PyAnalysis;
 use crate::errors::{PyApiError, Result};
@@ -70,7 +72,7 @@ fn hints_of(
         None => None,
         Some(v) if v.is_none() => None,
         Some(v) => Some(if let Ok(bpm) = v.extract::<f64>() {
-            (bpm / 1.15, bpm * 1.15)
+            hint_tempo_range_around(bpm)
         } else if let Ok(range) = v.extract::<(f64, f64)>() {
             range
         } else {

@@ -12,7 +12,7 @@ use std::time::Instant;
 use skeleton::{Joint, Motion};
 
 pub use datasets::{find_recordings, LabelledRecording, Layout, References, SplitChoice};
-pub use hints::{hints_from_labels, LabelHints, TEMPO_HINT_TOLERANCE};
+pub use hints::{hints_from_labels, LabelHints};
 pub use scores::{EvaluationReport, EventCounts, RecordingScores, ScoreSummary};
 pub use strokes::{direction_tally, string_tally, StrokeReferences, Tally};
 

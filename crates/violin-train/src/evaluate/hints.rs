@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use performance::TimeSignature;
-use violin_skeleton::BeatHints;
+use violin_skeleton::{hint_tempo_range_around, BeatHints};
 
 use super::datasets::{LabelSource, LabelledRecording};
 
@@ -16,15 +16,11 @@ pub enum LabelHints {
     None,
     /// The written time signature.
     TimeSignature,
-    /// The nominal tempo, ±[`TEMPO_HINT_TOLERANCE`].
+    /// The nominal tempo, ±15 % ([`violin_skeleton::HINT_SINGLE_TEMPO_TOLERANCE`]).
     Tempo,
     /// Both.
     Both,
 }
-
-/// How far either side of the labelled nominal tempo the tempo hint reaches (as the CLI's
-/// single `--tempo-bpm` value).
-pub const TEMPO_HINT_TOLERANCE: f64 = 0.15;
 
 impl LabelledRecording {
     /// The corpus item folder (`None` for a URMP track).
@@ -56,12 +52,7 @@ pub fn hints_from_labels(item_dir: &Path, which: LabelHints) -> BeatHints {
         .as_ref()
         .and_then(|l| l.get("tempo_bpm")?.as_f64())
         .filter(|t| t.is_finite() && *t > 0.0)
-        .map(|t| {
-            (
-                t / (1.0 + TEMPO_HINT_TOLERANCE),
-                t * (1.0 + TEMPO_HINT_TOLERANCE),
-            )
-        });
+        .map(hint_tempo_range_around);
     BeatHints {
         time_signature: time_signature
             .filter(|_| matches!(which, LabelHints::TimeSignature | LabelHints::Both)),
