@@ -105,6 +105,18 @@ impl BeatHints {
         Ok(())
     }
 
+    /// [`BeatHints::check`], and refuses any hint for a tracker that does not take them
+    /// (the classic one).
+    pub fn check_for(&self, method: BeatMethod) -> Result<()> {
+        if method == BeatMethod::Classic && !self.is_empty() {
+            return Err(Error::BeatHint(
+                "time-signature and tempo hints need the learned beat tracker (the default): drop the classic one or the hints"
+                    .into(),
+            ));
+        }
+        self.check()
+    }
+
     /// The decoder settings with the hints applied.
     fn decoder_config(&self) -> BarPointerConfig {
         let mut cfg = BarPointerConfig::default();

@@ -157,13 +157,7 @@ impl Pipeline {
 
     /// [`Pipeline::analyze`], also telling how long each stage took.
     pub fn analyze_timed(&self, audio: &Audio) -> Result<(Analysis, StageTimings)> {
-        if self.beat_method == BeatMethod::Classic && !self.beat_hints.is_empty() {
-            return Err(Error::BeatHint(
-                "time-signature and tempo hints need the learned beat tracker, not the classic one"
-                    .into(),
-            ));
-        }
-        self.beat_hints.check()?;
+        self.beat_hints.check_for(self.beat_method)?;
         let mut timings = StageTimings::default();
         let clock = Instant::now();
         let analysed = resample(audio, DEFAULT_ANALYSIS_RATE_HZ)?;

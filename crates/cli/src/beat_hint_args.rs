@@ -4,7 +4,7 @@ use std::path::Path;
 
 use clap::Args;
 use violin_skeleton::{
-    hint_tempo_range_around, BeatHints, PipelineBuilder, TimeSignature, HINT_MAX_BEATS_PER_BAR,
+    hint_tempo_range_around, BeatHints, BeatMethod, PipelineBuilder, TimeSignature,
     HINT_TEMPO_RANGE_BPM,
 };
 
@@ -34,25 +34,21 @@ impl BeatHintArgs {
         }
     }
 
-    /// Refuses, before any file is read, hints the run cannot use: with `--beats classic`,
-    /// a bar longer than the tracker follows, or a MIDI `input` (a folder's MIDI files are
-    /// refused one by one).
+    /// Refuses, before any file is read, hints the run cannot use (the facade's
+    /// [`BeatHints::check_for`]: `--beats classic`, a bar longer than the tracker follows)
+    /// and hints for a MIDI `input` (a folder's MIDI files are refused one by one).
     pub fn check(&self, beats: BeatArg, input: &Path) -> Result<(), CliError> {
         if self.hints().is_empty() {
             return Ok(());
         }
-        if beats == BeatArg::Classic {
-            return Err(CliError::Usage(
-                "--time-signature and --tempo-bpm need the learned beat tracker: drop --beats classic"
-                    .into(),
-            ));
-        }
-        if let Some(ts) = self.time_signature {
-            if ts.meter().beats_per_bar > HINT_MAX_BEATS_PER_BAR {
-                return Err(CliError::Usage(format!(
-                    "--time-signature {ts}: the beat tracker follows at most {HINT_MAX_BEATS_PER_BAR} beats per bar; give the bar as it is written, e.g. 3/4 or 6/8"
-                )));
-            }
+        let method = match beats {
+            BeatArg::Learned => BeatMethod::Learned,
+            BeatArg::Classic => BeatMethod::Classic,
+        };
+        if let Err(e) = self.hints().check_for(method) {
+            return Err(CliError::Usage(format!(
+                "--time-signature/--tempo-bpm: {e}"
+            )));
         }
         if is_midi(input) {
             return Err(CliError::Usage(format!(
@@ -82,11 +78,11 @@ pub fn parse_tempo_range(text: &str) -> Result<(f64, f64), String> {
         Some((a, b)) => (number(a)?, number(b)?),
         None => hint_tempo_range_around(number(text)?),
     };
-    if lo.is_finite() && hi.is_finite() && min <= lo && lo < hi && hi <= max {
-        Ok((lo, hi))
-    } else {
-        Err(bad())
-    }
+    let hints = BeatHints {
+        tempo_range_bpm: Some((lo, hi)),
+        ..BeatHints::default()
+    };
+    hints.check().map(|()| (lo, hi)).map_err(|_| bad())
 }
 
 #[cfg(test)]

@@ -86,13 +86,7 @@ fn hints_of(
         time_signature,
         tempo_range_bpm,
     };
-    if !hints.is_empty() && beats == BeatMethod::Classic {
-        return Err(bad(
-            "time_signature and tempo_bpm need the learned beat tracker: drop beats=\"classic\""
-                .into(),
-        ));
-    }
-    hints.check().map_err(|e| bad(e.to_string()))?;
+    hints.check_for(beats).map_err(|e| bad(e.to_string()))?;
     Ok(hints)
 }
 
