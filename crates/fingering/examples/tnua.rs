@@ -7,7 +7,14 @@
 //! cargo run --release -p fingering --features train --example tnua -- DIR --write data/learned_tnua.tsv
 //! cargo run --release -p fingering --features train --example tnua -- DIR --reserved # final evaluation
 //! cargo run --release -p fingering --features train --example tnua -- DIR --fifths 2  # LOPO, places also counted a fifth up/down
+//! cargo run --release -p fingering --features train --example tnua -- DIR --fixed 20,200,2,2,0.5,0.5 --span 4,0,2,1
+//! cargo run --release -p fingering --features train --example tnua -- DIR --small-grid --span off --span 4,0,2,1 --nested
 //! ```
+//!
+//! `--span AHEAD,BEHIND,ALPHA,WEIGHT` (repeatable; `off` = none) gives the span contexts
+//! tried ([`fingering::span`]); `--fixed A,B,L,M,GS,GP` replaces the hyper-parameter grid
+//! by one point and `--small-grid` by 12; `--nested` chooses the settings for each held-out
+//! piece by LOPO over the other nine (nested LOPO: how good the choice itself is).
 //!
 //! The pieces bach1, bach2, flower and mend1 are reserved for the final evaluation: they
 //! are never read for training, tuning or leave-one-piece-out (LOPO). Tuning picks the
@@ -18,8 +25,9 @@
 use std::path::PathBuf;
 
 use fingering::train::{
-    agreement, fit_with_fifths, read_tnua_dir, Agreement, Piece, RESERVED_PIECES,
+    agreement, count_span, fit_with_fifths, read_tnua_dir, Agreement, Piece, RESERVED_PIECES,
 };
+use fingering::SpanContext;
 use fingering::{
     Fingering, FingeringPlanner, FingeringTable, GreedyPlanner, LearnedParams, LearnedPlanner,
     OptimalPlanner,
@@ -64,7 +72,89 @@ fn evaluate(planner: &dyn FingeringPlanner, pieces: &[&Piece]) -> (Agreement, Ve
     (total, each)
 }
 
-fn lopo(train: &[&Piece], h: [f64; 6], fifths: Option<u32>) -> (Agreement, Vec<Agreement>) {
+/// The parameters fitted on `pieces` with hyper-parameters `h` and span context `span`.
+fn fit(
+    pieces: &[&Piece],
+    h: [f64; 6],
+    fifths: Option<u32>,
+    span: Option<SpanContext>,
+) -> LearnedParams {
+    let mut p = fit_with_fifths(pieces, h, fifths);
+    if let Some(span) = span {
+        count_span(&mut p, pieces, span);
+    }
+    p
+}
+
+/// The values of every `--span` flag (`off` = `None`); `[None]` without one.
+fn spans(args: &[String]) -> Result<Vec<Option<SpanContext>>, String> {
+    let mut out = Vec::new();
+    for (i, a) in args.iter().enumerate() {
+        if a != "--span" {
+            continue;
+        }
+        let v = args
+            .get(i + 1)
+            .ok_or("--span needs AHEAD,BEHIND,ALPHA,WEIGHT or off")?;
+        if v == "off" {
+            out.push(None);
+            continue;
+        }
+        let x: Vec<f64> = numbers(v)?;
+        let [ahead, behind, alpha, weight] = x[..] else {
+            return Err(format!("--span {v}: needs AHEAD,BEHIND,ALPHA,WEIGHT"));
+        };
+        out.push(Some(SpanContext {
+            ahead: ahead as usize,
+            behind: behind as usize,
+            alpha,
+            weight,
+        }));
+    }
+    if out.is_empty() {
+        out.push(None);
+    }
+    Ok(out)
+}
+
+fn numbers(v: &str) -> Result<Vec<f64>, String> {
+    v.split(',')
+        .map(|x| x.parse::<f64>().map_err(|e| format!("{x}: {e}")))
+        .collect()
+}
+
+/// Nested leave-one-piece-out: for each held-out piece, the settings (of `grid` × `spans`)
+/// with the best LOPO string+position over the other nine pieces, fitted on those nine.
+fn nested(train: &[&Piece], grid: &[[f64; 6]], spans: &[Option<SpanContext>], fifths: Option<u32>) {
+    let mut total = Agreement::default();
+    for (i, held) in train.iter().enumerate() {
+        let rest: Vec<&Piece> = (train.iter().enumerate())
+            .filter(|(j, _)| *j != i)
+            .map(|(_, p)| *p)
+            .collect();
+        let mut best = (f64::NEG_INFINITY, grid[0], spans[0]);
+        for span in spans {
+            for h in grid {
+                let sp = lopo(&rest, *h, fifths, *span).0.shares().1;
+                if sp > best.0 {
+                    best = (sp, *h, *span);
+                }
+            }
+        }
+        let planner = LearnedPlanner::new(&fit(&rest, best.1, fifths, best.2));
+        let (a, _) = evaluate(&planner, &[held]);
+        println!("{} {:?} {:?}", row(&held.name, &a), best.1, best.2);
+        total.add(&a);
+    }
+    println!("{}", row("nested LOPO", &total));
+}
+
+fn lopo(
+    train: &[&Piece],
+    h: [f64; 6],
+    fifths: Option<u32>,
+    span: Option<SpanContext>,
+) -> (Agreement, Vec<Agreement>) {
     let mut total = Agreement::default();
     let mut each = Vec::new();
     for (i, held) in train.iter().enumerate() {
@@ -74,7 +164,7 @@ fn lopo(train: &[&Piece], h: [f64; 6], fifths: Option<u32>) -> (Agreement, Vec<A
             .filter(|(j, _)| *j != i)
             .map(|(_, p)| *p)
             .collect();
-        let planner = LearnedPlanner::new(&fit_with_fifths(&rest, h, fifths));
+        let planner = LearnedPlanner::new(&fit(&rest, h, fifths, span));
         let (a, _) = evaluate(&planner, &[held]);
         total.add(&a);
         each.push(a);
@@ -97,11 +187,27 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .enumerate()
         .find(|(i, a)| {
             !a.starts_with("--")
-                && (*i == 0 || !["--write", "--debug", "--fifths"].contains(&args[i - 1].as_str()))
+                && (*i == 0
+                    || !["--write", "--debug", "--fifths", "--span", "--fixed"]
+                        .contains(&args[i - 1].as_str()))
         })
         .map(|(_, a)| a)
         .map(PathBuf::from)
-        .ok_or("usage: tnua DIR [--write PARAMS.tsv] [--reserved] [--fifths W] [--debug PIECE]")?;
+        .ok_or(
+            "usage: tnua DIR [--write PARAMS.tsv] [--reserved] [--fifths W] [--debug PIECE] \
+             [--span A,B,ALPHA,W|off]… [--fixed A,B,L,M,GS,GP | --small-grid] [--nested]",
+        )?;
+    let spans = spans(&args)?;
+    let fixed: Option<[f64; 6]> = args
+        .iter()
+        .position(|a| a == "--fixed")
+        .and_then(|i| args.get(i + 1))
+        .map(|v| {
+            numbers(v)?
+                .try_into()
+                .map_err(|_| format!("--fixed {v}: needs 6 values"))
+        })
+        .transpose()?;
     let write = args
         .iter()
         .position(|a| a == "--write")
@@ -155,12 +261,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
 
     if let Some(name) = debug {
-        let h = [5.0, 200.0, 2.0, 0.5, 0.0, 0.0];
+        let h = fixed.unwrap_or([20.0, 200.0, 1.5, 2.0, 0.5, 0.5]);
         let rest: Vec<&Piece> = train.iter().filter(|p| p.name != name).copied().collect();
         let Some(piece) = train.iter().find(|p| p.name == name) else {
             return Err("no such training piece".into());
         };
-        let plan = LearnedPlanner::new(&fit_with_fifths(&rest, h, fifths)).plan(&piece.midi)?;
+        let plan = LearnedPlanner::new(&fit(&rest, h, fifths, spans[0])).plan(&piece.midi)?;
         for (i, (f, labels)) in plan.iter().zip(&piece.labels).enumerate() {
             let ok = labels.iter().flatten().any(|l| l.same_string_position(f));
             let l: Vec<String> = labels
@@ -198,23 +304,41 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             }
         }
     }
-    let mut best = (f64::NEG_INFINITY, grid[0]);
-    for h in &grid {
-        let (a, _) = lopo(&train, *h, fifths);
-        let (s, sp, any) = a.shares();
-        eprintln!("{h:?}: {s:.3} {sp:.3} {any:.3}");
-        if sp > best.0 {
-            best = (sp, *h);
+    if let Some(h) = fixed {
+        grid = vec![h];
+    } else if args.iter().any(|a| a == "--small-grid") {
+        grid.clear();
+        for alpha in [5.0, 20.0] {
+            for lambda in [1.5, 2.0, 3.0] {
+                for gp in [0.25, 0.5] {
+                    grid.push([alpha, 200.0, lambda, 2.0, 0.5, gp]);
+                }
+            }
         }
     }
-    let h = best.1;
+    if args.iter().any(|a| a == "--nested") {
+        nested(&train, &grid, &spans, fifths);
+        return Ok(());
+    }
+    let mut best = (f64::NEG_INFINITY, grid[0], spans[0]);
+    for span in &spans {
+        for h in &grid {
+            let (a, _) = lopo(&train, *h, fifths, *span);
+            let (s, sp, any) = a.shares();
+            eprintln!("{h:?} {span:?}: {s:.4} {sp:.4} {any:.4}");
+            if sp > best.0 {
+                best = (sp, *h, *span);
+            }
+        }
+    }
+    let (h, span) = (best.1, best.2);
     println!(
-        "## Leave-one-piece-out over {} training pieces (alpha, beta, lambda, mu, gamma_string, gamma_position = {h:?})",
+        "## Leave-one-piece-out over {} training pieces (alpha, beta, lambda, mu, gamma_string, gamma_position = {h:?}; span {span:?})",
         train.len()
     );
     println!("| planner | notes | string | string+position | ≥ 1 violinist |");
     println!("|---|---|---|---|---|");
-    let (all, each) = lopo(&train, h, fifths);
+    let (all, each) = lopo(&train, h, fifths, span);
     println!("{}", row("learned (LOPO)", &all));
     for (name, p) in baselines {
         println!("{}", row(name, &evaluate(p, &train).0));
@@ -224,7 +348,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         println!("{}", row(&p.name, a));
     }
     if let Some(path) = write {
-        let params: LearnedParams = fit_with_fifths(&train, h, fifths);
+        let params: LearnedParams = fit(&train, h, fifths, span);
         std::fs::write(&path, params.to_tsv())?;
         println!(
             "\nparameters fitted on all {} training pieces written to {}",

@@ -11,6 +11,7 @@ use crate::learned_params::{LearnedParams, MAX_INTERVAL, MAX_POSITION_STEP};
 use crate::physical::{self, finger_offset, position_offset};
 use crate::placement::Placement;
 use crate::planner::FingeringPlanner;
+use crate::span::{span_class, SpanContext, SpanTable};
 use crate::string::ViolinString;
 use crate::style::FingeringStyle;
 
@@ -146,6 +147,8 @@ struct Tables {
     finger: Vec<f64>,
     gamma_string: f64,
     gamma_position: f64,
+    /// The span context and its counts, when the parameters carry one that weighs.
+    span: Option<(SpanContext, SpanTable)>,
 }
 
 /// −ln of smoothed relative frequencies: `(c + w·q) / (n + w)` with `q` the back-off.
@@ -257,7 +260,14 @@ impl Tables {
                 }
             }
         }
+        let span = p.span.filter(|s| s.weight > 0.0).map(|s| {
+            (
+                s,
+                SpanTable::new(&p.span_emission, physical::LOWEST_MIDI, &places),
+            )
+        });
         Tables {
+            span,
             gamma_string: p.gamma_string,
             gamma_position: p.gamma_position,
             places,
@@ -361,8 +371,17 @@ impl FingeringPlanner for LearnedPlanner {
         for (i, &note) in midi.iter().enumerate() {
             let places = self.places(note);
             let ctx = context(midi, i);
+            let span = self
+                .tables
+                .span
+                .as_ref()
+                .map(|(s, table)| (s, table, span_class(midi, i, s.ahead, s.behind)));
             own.clear();
-            own.extend(places.iter().zip(self.emission(note, ctx)).map(|(f, e)| {
+            let emitted = places.iter().zip(self.emission(note, ctx)).enumerate();
+            own.extend(emitted.map(|(k, (f, e))| {
+                let e = e + span.map_or(0.0, |(s, table, class)| {
+                    table.cost((note, ctx, class), k, e, s)
+                });
                 let (same, any) = if self.tables.gamma_string + self.tables.gamma_position > 0.0 {
                     coverage(midi, i, f)
                 } else {

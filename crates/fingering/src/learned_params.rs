@@ -7,6 +7,7 @@ use std::fmt::Write as _;
 use crate::error::FingeringError;
 use crate::fingering::Fingering;
 use crate::placement::Placement;
+use crate::span::{SpanContext, SPAN_CLASSES};
 use crate::string::ViolinString;
 
 /// Melodic contexts a note's place depends on: the interval from the previous note and to
@@ -36,7 +37,9 @@ pub const MAX_POSITION_STEP: i8 = 7;
 ///   distributions); `lambda`: weight of the transition costs against the emission costs;
 ///   `mu`: weight of the finger pairs; `gamma_string`, `gamma_position`: rewards for a
 ///   place whose hand frame also covers the neighbouring notes (violinists choose a
-///   position for a group of notes, not note by note).
+///   position for a group of notes, not note by note);
+/// * `span`, `span_emission[(pitch, context, span class, place)]`: where a passage is going
+///   ([`crate::span`]); `None` in files written before it existed.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct LearnedParams {
     /// Pseudo-counts of the emission back-off.
@@ -58,6 +61,10 @@ pub struct LearnedParams {
     pub transition: BTreeMap<(i8, i8, i8), u32>,
     /// Finger pairs per interval class within one position and string.
     pub finger: BTreeMap<(i8, u8, u8), u32>,
+    /// How the span context is read and weighed (`None`: not used).
+    pub span: Option<SpanContext>,
+    /// Where each pitch was played per melodic context and span class.
+    pub span_emission: BTreeMap<(u8, u8, u8, Fingering), u32>,
     /// Free text lines (`#` comments): provenance.
     pub notes: Vec<String>,
 }
@@ -84,7 +91,9 @@ impl LearnedParams {
     /// Writes the parameters as TSV: `#` lines, then `hyper alpha beta lambda mu
     /// gamma_string gamma_position`,
     /// `e pitch context string position finger placement count`, `t interval dstring dposition
-    /// count` and `f interval finger_from finger_to count` rows.
+    /// count` and `f interval finger_from finger_to count` rows; with a span context, a
+    /// `span ahead behind alpha weight` row and `s pitch context class string position finger
+    /// placement count` rows.
     pub fn to_tsv(&self) -> String {
         let mut out = String::new();
         for line in &self.notes {
@@ -110,6 +119,25 @@ impl LearnedParams {
         }
         for ((i, a, b), n) in &self.finger {
             let _ = writeln!(out, "f\t{i}\t{a}\t{b}\t{n}");
+        }
+        if let Some(span) = &self.span {
+            let SpanContext {
+                ahead,
+                behind,
+                alpha,
+                weight,
+            } = span;
+            let _ = writeln!(out, "span\t{ahead}\t{behind}\t{alpha}\t{weight}");
+        }
+        for ((pitch, ctx, class, f), n) in &self.span_emission {
+            let _ = writeln!(
+                out,
+                "s\t{pitch}\t{ctx}\t{class}\t{}\t{}\t{}\t{}\t{n}",
+                f.string.number(),
+                f.position,
+                f.finger,
+                placement_code(f.placement)
+            );
         }
         out
     }
@@ -151,6 +179,10 @@ impl LearnedParams {
                 }
                 continue;
             }
+            if kind == "span" {
+                params.span = Some(span_row(rest).map_err(err)?);
+                continue;
+            }
             let v: Vec<i64> = rest
                 .iter()
                 .map(|s| s.parse::<i64>())
@@ -159,26 +191,17 @@ impl LearnedParams {
             let small = |x: i64, lo: i64, hi: i64| (lo..=hi).contains(&x);
             match (kind, &v[..]) {
                 ("e", &[pitch, ctx, s, pos, f, pl, n]) => {
-                    let string = u8::try_from(s)
-                        .ok()
-                        .and_then(ViolinString::from_number)
-                        .ok_or_else(|| err(format!("string {s} is not 1..=4")))?;
-                    let placement =
-                        placement_of(pl).ok_or_else(|| err(format!("placement {pl}")))?;
-                    if !(small(pitch, 0, 127)
-                        && small(ctx, 0, CONTEXTS as i64 - 1)
-                        && small(pos, 0, 20)
-                        && small(f, 0, 4))
-                    {
-                        return Err(err("pitch, position or finger out of range".into()));
-                    }
-                    let place = Fingering::with_placement(string, pos as u8, f as u8, placement);
-                    if place.midi() != pitch as u8 {
-                        return Err(err(format!("place does not play MIDI {pitch}")));
-                    }
+                    let place = place_row(pitch, ctx, [s, pos, f, pl]).map_err(err)?;
                     params
                         .emission
                         .insert((pitch as u8, ctx as u8, place), count(n, &err)?);
+                }
+                ("s", &[pitch, ctx, class, s, pos, f, pl, n])
+                    if small(class, 0, SPAN_CLASSES as i64 - 1) =>
+                {
+                    let place = place_row(pitch, ctx, [s, pos, f, pl]).map_err(err)?;
+                    let key = (pitch as u8, ctx as u8, class as u8, place);
+                    params.span_emission.insert(key, count(n, &err)?);
                 }
                 ("t", &[iv, s, p, n])
                     if small(iv, -13, 13) && small(s, -3, 3) && small(p, -7, 7) =>
@@ -203,6 +226,50 @@ impl LearnedParams {
         }
         Ok(params)
     }
+}
+
+/// The place of an `e` or `s` row: `[string, position, finger, placement]`, checked to play
+/// `pitch` (`context` checked too).
+fn place_row(pitch: i64, context: i64, [s, pos, f, pl]: [i64; 4]) -> Result<Fingering, String> {
+    let small = |x: i64, lo: i64, hi: i64| (lo..=hi).contains(&x);
+    let string = u8::try_from(s)
+        .ok()
+        .and_then(ViolinString::from_number)
+        .ok_or_else(|| format!("string {s} is not 1..=4"))?;
+    let placement = placement_of(pl).ok_or_else(|| format!("placement {pl}"))?;
+    if !(small(pitch, 0, 127)
+        && small(context, 0, CONTEXTS as i64 - 1)
+        && small(pos, 0, 20)
+        && small(f, 0, 4))
+    {
+        return Err("pitch, context, position or finger out of range".into());
+    }
+    let place = Fingering::with_placement(string, pos as u8, f as u8, placement);
+    if place.midi() != pitch as u8 {
+        return Err(format!("place does not play MIDI {pitch}"));
+    }
+    Ok(place)
+}
+
+/// The `span ahead behind alpha weight` row's values (notes ahead and behind at most 64).
+fn span_row(rest: &[&str]) -> Result<SpanContext, String> {
+    let [ahead, behind, alpha, weight] = rest else {
+        return Err("span needs 4 values: ahead behind alpha weight".into());
+    };
+    let notes = |s: &str| match s.parse::<usize>() {
+        Ok(n) if n <= 64 => Ok(n),
+        _ => Err(format!("span: {s} is not a number of notes 0..=64")),
+    };
+    let real = |s: &str| match s.parse::<f64>() {
+        Ok(x) if x.is_finite() && x >= 0.0 => Ok(x),
+        _ => Err(format!("span: {s} is not a finite value ≥ 0")),
+    };
+    Ok(SpanContext {
+        ahead: notes(ahead)?,
+        behind: notes(behind)?,
+        alpha: real(alpha)?,
+        weight: real(weight)?,
+    })
 }
 
 fn count(n: i64, err: &dyn Fn(String) -> FingeringError) -> Result<u32, FingeringError> {
@@ -231,6 +298,28 @@ mod tests {
         p.finger.insert((2, 1, 2), 4);
         let back = LearnedParams::from_tsv(&p.to_tsv()).unwrap();
         assert_eq!(back, p);
+        p.span = Some(SpanContext {
+            ahead: 4,
+            behind: 0,
+            alpha: 2.0,
+            weight: 1.0,
+        });
+        p.span_emission
+            .insert((74, 3, 13, Fingering::new(ViolinString::A, 3, 1)), 5);
+        assert_eq!(LearnedParams::from_tsv(&p.to_tsv()).unwrap(), p);
+        let hyper = "hyper\t1\t1\t1\t1\t0\t0\n";
+        for bad in [
+            "span\t4\t0\t2\n",
+            "span\t4\t0\t2\tNaN\n",
+            "span\t4000\t0\t2\t1\n",
+            "s\t71\t3\t36\t3\t3\t1\t0\t5\n",
+            "s\t72\t3\t13\t3\t3\t1\t0\t5\n",
+        ] {
+            assert!(
+                LearnedParams::from_tsv(&format!("{hyper}{bad}")).is_err(),
+                "{bad}"
+            );
+        }
         assert!(LearnedParams::from_tsv("e\t71\t3\t1\t1\t0\t7\n").is_err()); // no hyper
         let wrong_pitch = "hyper\t1\t1\t1\t1\t0\t0\ne\t72\t0\t3\t1\t1\t0\t7\n";
         assert!(LearnedParams::from_tsv(wrong_pitch).is_err());

@@ -12,7 +12,8 @@
 //! * [`OptimalPlanner`] — Viterbi over all places with tunable [`CostWeights`] for shifts,
 //!   string crossings, high positions and open strings (physical table by default).
 //! * [`LearnedPlanner`] — Viterbi over costs learned from ten violinists' fingerings (the
-//!   TNUA dataset; [`LearnedParams`], trained by the `train` feature's `train` module).
+//!   TNUA dataset; [`LearnedParams`], trained by the `train` feature's `train` module),
+//!   with where the passage is going as context ([`span`]).
 //! * [`FingeringStyle`] — knobs for open strings, low or high positions and *sul* passages.
 //!
 //! A [`Fingering`] also tells where the left hand sits along the neck
@@ -46,6 +47,7 @@ pub mod physical;
 mod placement;
 mod places;
 mod planner;
+pub mod span;
 mod string;
 mod style;
 mod table;
@@ -64,6 +66,7 @@ pub use partner::partner_place;
 pub use placement::Placement;
 pub use places::places_for;
 pub use planner::FingeringPlanner;
+pub use span::SpanContext;
 pub use string::ViolinString;
 pub use style::{FingeringStyle, SulPassage};
 pub use table::{note_name_to_midi, FingeringTable, ORIGINAL_TABLE_TSV};

@@ -15,6 +15,7 @@ use crate::fingering::Fingering;
 use crate::learned::{context, interval_class, steps};
 use crate::learned_params::LearnedParams;
 use crate::placement::Placement;
+use crate::span::{span_class, SpanContext};
 use crate::string::ViolinString;
 
 /// The pieces reserved for the final evaluation (issue #22): never read for training,
@@ -244,6 +245,24 @@ pub fn fit_with_fifths(pieces: &[&Piece], h: [f64; 6], fifths: Option<u32>) -> L
         }
     }
     p
+}
+
+/// Sets `p`'s span context to `span` and counts, into `p.span_emission`, where each
+/// violinist of `pieces` played each pitch per melodic context and span class
+/// ([`crate::span::span_class`] of the violinist's own note sequence).
+pub fn count_span(p: &mut LearnedParams, pieces: &[&Piece], span: SpanContext) {
+    p.span = Some(span);
+    p.span_emission.clear();
+    for seq in pieces.iter().flat_map(|piece| &piece.sequences) {
+        let pitches: Vec<u8> = seq.iter().map(|s| s.0).collect();
+        for (i, &(midi, label)) in seq.iter().enumerate() {
+            if let Some(f) = label.to_fingering(midi) {
+                let class = span_class(&pitches, i, span.ahead, span.behind);
+                let key = (midi, context(&pitches, i), class, f);
+                *p.span_emission.entry(key).or_default() += 1;
+            }
+        }
+    }
 }
 
 /// The place `f` (playing `midi`) moved one string up and one string down, with the pitch

@@ -123,3 +123,32 @@ fn ten_thousand_notes_plan_quickly() {
     // Generous for debug builds on a shared machine; release takes a few ms per 1000 notes.
     assert!(t.elapsed().as_secs_f64() < 30.0);
 }
+
+#[test]
+fn the_span_context_counts_only_when_it_weighs() {
+    let shipped = LearnedParams::shipped().unwrap();
+    let span = shipped
+        .span
+        .expect("the shipped parameters carry a span context");
+    assert!(span.weight > 0.0 && !shipped.span_emission.is_empty());
+    let without = LearnedParams {
+        span: None,
+        ..shipped.clone()
+    };
+    let weightless = LearnedParams {
+        span: Some(fingering::SpanContext {
+            weight: 0.0,
+            ..span
+        }),
+        ..shipped.clone()
+    };
+    // A melody that climbs and falls through the registers.
+    let melody: Vec<u8> = (0..400)
+        .map(|i| 62 + ((i * 5 + (i / 7) * 3) % 29) as u8)
+        .collect();
+    let plan = |p: &LearnedParams| LearnedPlanner::new(p).plan(&melody).unwrap();
+    assert_eq!(plan(&without), plan(&weightless));
+    let with = plan(&shipped);
+    assert!(with.iter().zip(&melody).all(|(f, &m)| f.midi() == m));
+    assert_ne!(with, plan(&without), "the span context changes nothing");
+}
