@@ -105,14 +105,7 @@ impl LearnedParams {
             self.alpha, self.beta, self.lambda, self.mu, self.gamma_string, self.gamma_position
         );
         for ((pitch, ctx, f), n) in &self.emission {
-            let _ = writeln!(
-                out,
-                "e\t{pitch}\t{ctx}\t{}\t{}\t{}\t{}\t{n}",
-                f.string.number(),
-                f.position,
-                f.finger,
-                placement_code(f.placement)
-            );
+            let _ = writeln!(out, "e\t{pitch}\t{ctx}\t{}\t{n}", place_columns(f));
         }
         for ((i, s, p), n) in &self.transition {
             let _ = writeln!(out, "t\t{i}\t{s}\t{p}\t{n}");
@@ -130,14 +123,7 @@ impl LearnedParams {
             let _ = writeln!(out, "span\t{ahead}\t{behind}\t{alpha}\t{weight}");
         }
         for ((pitch, ctx, class, f), n) in &self.span_emission {
-            let _ = writeln!(
-                out,
-                "s\t{pitch}\t{ctx}\t{class}\t{}\t{}\t{}\t{}\t{n}",
-                f.string.number(),
-                f.position,
-                f.finger,
-                placement_code(f.placement)
-            );
+            let _ = writeln!(out, "s\t{pitch}\t{ctx}\t{class}\t{}\t{n}", place_columns(f));
         }
         out
     }
@@ -226,6 +212,17 @@ impl LearnedParams {
         }
         Ok(params)
     }
+}
+
+/// A place as the `e` and `s` rows write it: `string position finger placement`.
+fn place_columns(f: &Fingering) -> String {
+    format!(
+        "{}\t{}\t{}\t{}",
+        f.string.number(),
+        f.position,
+        f.finger,
+        placement_code(f.placement)
+    )
 }
 
 /// The place of an `e` or `s` row: `[string, position, finger, placement]`, checked to play
