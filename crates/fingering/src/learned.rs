@@ -11,7 +11,7 @@ use crate::learned_params::{LearnedParams, MAX_INTERVAL, MAX_POSITION_STEP};
 use crate::physical::{self, finger_offset, position_offset};
 use crate::placement::Placement;
 use crate::planner::FingeringPlanner;
-use crate::span::{span_class, SpanContext, SpanTable};
+use crate::span::{span_class, span_cost, SpanContext, SpanTable};
 use crate::string::ViolinString;
 use crate::style::FingeringStyle;
 
@@ -371,17 +371,16 @@ impl FingeringPlanner for LearnedPlanner {
         for (i, &note) in midi.iter().enumerate() {
             let places = self.places(note);
             let ctx = context(midi, i);
-            let span = self
-                .tables
-                .span
-                .as_ref()
-                .map(|(s, table)| (s, table, span_class(midi, i, s.ahead, s.behind)));
+            let span = self.tables.span.as_ref().map(|(s, table)| {
+                (
+                    s,
+                    table.counts((note, ctx, span_class(midi, i, s.ahead, s.behind))),
+                )
+            });
             own.clear();
             let emitted = places.iter().zip(self.emission(note, ctx)).enumerate();
             own.extend(emitted.map(|(k, (f, e))| {
-                let e = e + span.map_or(0.0, |(s, table, class)| {
-                    table.cost((note, ctx, class), k, e, s)
-                });
+                let e = e + span.map_or(0.0, |(s, counts)| span_cost(counts, k, e, s));
                 let (same, any) = if self.tables.gamma_string + self.tables.gamma_position > 0.0 {
                     coverage(midi, i, f)
                 } else {

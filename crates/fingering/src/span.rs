@@ -96,18 +96,29 @@ impl SpanTable {
         table
     }
 
-    /// The change to place `k`'s emission cost `e` (= −ln P(place | pitch, context)):
-    /// `weight · (−ln P(place | pitch, context, span) − e)`, the refined probability
-    /// smoothed towards the context's with `alpha` pseudo-counts; 0 where the (pitch,
-    /// context, span) was never counted.
-    pub(crate) fn cost(&self, key: (u8, u8, u8), k: usize, e: f64, span: &SpanContext) -> f64 {
-        let Some((c, n)) = self.counts.get(&key) else {
-            return 0.0;
-        };
-        let refined =
-            (c.get(k).copied().unwrap_or(0.0) + span.alpha * (-e).exp()) / (n + span.alpha);
-        span.weight * (-refined.ln() - e)
+    /// The counts of one (pitch, melodic context, span class): per place, and their total
+    /// (`None` where it was never counted).
+    pub(crate) fn counts(&self, key: (u8, u8, u8)) -> Option<&(Vec<f64>, f64)> {
+        self.counts.get(&key)
     }
+}
+
+/// The change to place `k`'s emission cost `e` (= −ln P(place | pitch, context)) given the
+/// counts of its (pitch, context, span class) ([`SpanTable::counts`]): `weight · (−ln
+/// P(place | pitch, context, span) − e)`, the refined probability smoothed towards the
+/// context's with `alpha` pseudo-counts; 0 where the (pitch, context, span) was never
+/// counted.
+pub(crate) fn span_cost(
+    counts: Option<&(Vec<f64>, f64)>,
+    k: usize,
+    e: f64,
+    span: &SpanContext,
+) -> f64 {
+    let Some((c, n)) = counts else {
+        return 0.0;
+    };
+    let refined = (c.get(k).copied().unwrap_or(0.0) + span.alpha * (-e).exp()) / (n + span.alpha);
+    span.weight * (-refined.ln() - e)
 }
 
 #[cfg(test)]
@@ -145,14 +156,14 @@ mod tests {
         };
         let e = -(0.5f64.ln());
         // The span's counts favour b: its cost falls, a's rises.
-        assert!(table.cost((71, 3, 7), 1, e, &span) < 0.0);
-        assert!(table.cost((71, 3, 7), 0, e, &span) > 0.0);
+        assert!(span_cost(table.counts((71, 3, 7)), 1, e, &span) < 0.0);
+        assert!(span_cost(table.counts((71, 3, 7)), 0, e, &span) > 0.0);
         // Never counted: no change.
-        assert_eq!(table.cost((71, 3, 8), 0, e, &span), 0.0);
+        assert_eq!(span_cost(table.counts((71, 3, 8)), 0, e, &span), 0.0);
         let off = SpanContext {
             weight: 0.0,
             ..span
         };
-        assert_eq!(table.cost((71, 3, 7), 1, e, &off), 0.0);
+        assert_eq!(span_cost(table.counts((71, 3, 7)), 1, e, &off), 0.0);
     }
 }
