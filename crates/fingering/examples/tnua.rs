@@ -9,12 +9,17 @@
 //! cargo run --release -p fingering --features train --example tnua -- DIR --fifths 2  # LOPO, places also counted a fifth up/down
 //! cargo run --release -p fingering --features train --example tnua -- DIR --fixed 20,200,2,2,0.5,0.5 --span 4,0,2,1
 //! cargo run --release -p fingering --features train --example tnua -- DIR --small-grid --span off --span 4,0,2,1 --nested
+//! cargo run --release -p fingering --features train --example tnua -- DIR --fixed 20,200,2,2,0.5,0.5 --span 4,0,2,1 --ytvf YTVF_DIR
 //! ```
 //!
 //! `--span AHEAD,BEHIND,ALPHA,WEIGHT` (repeatable; `off` = none) gives the span contexts
 //! tried ([`fingering::span`]); `--fixed A,B,L,M,GS,GP` replaces the hyper-parameter grid
 //! by one point and `--small-grid` by 12; `--nested` chooses the settings for each held-out
 //! piece by LOPO over the other nine (nested LOPO: how good the choice itself is).
+//! `--ytvf YTVF_DIR` (the YTVF dataset's `YTVF_dataset` folder, [`fingering::ytvf`]) also
+//! evaluates the planner fitted on the ten training pieces on YTVF's 30 works; with
+//! `--ytvf-train W` those works join every fit instead (each counted W times) and are not
+//! evaluated.
 //!
 //! The pieces bach1, bach2, flower and mend1 are reserved for the final evaluation: they
 //! are never read for training, tuning or leave-one-piece-out (LOPO). Tuning picks the
@@ -22,11 +27,12 @@
 //! pieces; `--write` fits those on all ten and writes the parameters; `--reserved`
 //! evaluates the shipped parameters and the baselines on the reserved pieces.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use fingering::train::{
     agreement, count_span, fit_with_fifths, read_tnua_dir, Agreement, Piece, RESERVED_PIECES,
 };
+use fingering::ytvf::read_ytvf_dir;
 use fingering::SpanContext;
 use fingering::{
     Fingering, FingeringPlanner, FingeringTable, GreedyPlanner, LearnedParams, LearnedPlanner,
@@ -73,15 +79,25 @@ fn evaluate(planner: &dyn FingeringPlanner, pieces: &[&Piece]) -> (Agreement, Ve
 }
 
 /// The parameters fitted on `pieces` with hyper-parameters `h` and span context `span`.
+/// What is counted besides the training pieces themselves.
+struct Counting<'a> {
+    /// `--fifths W`: places also counted a fifth up and down.
+    fifths: Option<u32>,
+    /// `--ytvf-train W`: the YTVF pieces, each W times, in every fit.
+    extra: Vec<&'a Piece>,
+}
+
 fn fit(
     pieces: &[&Piece],
     h: [f64; 6],
-    fifths: Option<u32>,
+    counting: &Counting,
     span: Option<SpanContext>,
 ) -> LearnedParams {
-    let mut p = fit_with_fifths(pieces, h, fifths);
+    let mut all = pieces.to_vec();
+    all.extend(counting.extra.iter().copied());
+    let mut p = fit_with_fifths(&all, h, counting.fifths);
     if let Some(span) = span {
-        count_span(&mut p, pieces, span);
+        count_span(&mut p, &all, span);
     }
     p
 }
@@ -125,7 +141,7 @@ fn numbers(v: &str) -> Result<Vec<f64>, String> {
 
 /// Nested leave-one-piece-out: for each held-out piece, the settings (of `grid` × `spans`)
 /// with the best LOPO string+position over the other nine pieces, fitted on those nine.
-fn nested(train: &[&Piece], grid: &[[f64; 6]], spans: &[Option<SpanContext>], fifths: Option<u32>) {
+fn nested(train: &[&Piece], grid: &[[f64; 6]], spans: &[Option<SpanContext>], counting: &Counting) {
     let mut total = Agreement::default();
     for (i, held) in train.iter().enumerate() {
         let rest: Vec<&Piece> = (train.iter().enumerate())
@@ -135,13 +151,13 @@ fn nested(train: &[&Piece], grid: &[[f64; 6]], spans: &[Option<SpanContext>], fi
         let mut best = (f64::NEG_INFINITY, grid[0], spans[0]);
         for span in spans {
             for h in grid {
-                let sp = lopo(&rest, *h, fifths, *span).0.shares().1;
+                let sp = lopo(&rest, *h, counting, *span).0.shares().1;
                 if sp > best.0 {
                     best = (sp, *h, *span);
                 }
             }
         }
-        let planner = LearnedPlanner::new(&fit(&rest, best.1, fifths, best.2));
+        let planner = LearnedPlanner::new(&fit(&rest, best.1, counting, best.2));
         let (a, _) = evaluate(&planner, &[held]);
         println!("{} {:?} {:?}", row(&held.name, &a), best.1, best.2);
         total.add(&a);
@@ -152,7 +168,7 @@ fn nested(train: &[&Piece], grid: &[[f64; 6]], spans: &[Option<SpanContext>], fi
 fn lopo(
     train: &[&Piece],
     h: [f64; 6],
-    fifths: Option<u32>,
+    counting: &Counting,
     span: Option<SpanContext>,
 ) -> (Agreement, Vec<Agreement>) {
     let mut total = Agreement::default();
@@ -164,7 +180,7 @@ fn lopo(
             .filter(|(j, _)| *j != i)
             .map(|(_, p)| *p)
             .collect();
-        let planner = LearnedPlanner::new(&fit(&rest, h, fifths, span));
+        let planner = LearnedPlanner::new(&fit(&rest, h, counting, span));
         let (a, _) = evaluate(&planner, &[held]);
         total.add(&a);
         each.push(a);
@@ -188,14 +204,23 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .find(|(i, a)| {
             !a.starts_with("--")
                 && (*i == 0
-                    || !["--write", "--debug", "--fifths", "--span", "--fixed"]
-                        .contains(&args[i - 1].as_str()))
+                    || ![
+                        "--write",
+                        "--debug",
+                        "--fifths",
+                        "--span",
+                        "--fixed",
+                        "--ytvf",
+                        "--ytvf-train",
+                    ]
+                    .contains(&args[i - 1].as_str()))
         })
         .map(|(_, a)| a)
         .map(PathBuf::from)
         .ok_or(
             "usage: tnua DIR [--write PARAMS.tsv] [--reserved] [--fifths W] [--debug PIECE] \
-             [--span A,B,ALPHA,W|off]… [--fixed A,B,L,M,GS,GP | --small-grid] [--nested]",
+             [--span A,B,ALPHA,W|off]… [--fixed A,B,L,M,GS,GP | --small-grid] [--nested] \
+             [--ytvf YTVF_DIR [--ytvf-train W]]",
         )?;
     let spans = spans(&args)?;
     let fixed: Option<[f64; 6]> = args
@@ -225,6 +250,27 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .and_then(|i| args.get(i + 1))
         .map(|w| w.parse())
         .transpose()?;
+    let value = |flag: &str| {
+        args.iter()
+            .position(|a| a == flag)
+            .and_then(|i| args.get(i + 1))
+    };
+    let ytvf = value("--ytvf")
+        .map(|d| read_ytvf_dir(Path::new(d)))
+        .transpose()?;
+    let ytvf_train: usize = value("--ytvf-train")
+        .map(|w| w.parse())
+        .transpose()?
+        .unwrap_or(0);
+    if ytvf_train > 0 && ytvf.is_none() {
+        return Err("--ytvf-train needs --ytvf YTVF_DIR".into());
+    }
+    let counting = Counting {
+        fifths,
+        extra: (ytvf.iter().flatten())
+            .flat_map(|p| std::iter::repeat_n(p, ytvf_train))
+            .collect(),
+    };
     let pieces = read_tnua_dir(&dir)?;
     let train: Vec<&Piece> = pieces
         .iter()
@@ -250,6 +296,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let learned = LearnedPlanner::default();
         let (all, each) = evaluate(&learned, &held);
         println!("{}", row("learned (shipped)", &all));
+        if !counting.extra.is_empty() {
+            let h = fixed.ok_or("--reserved with --ytvf-train needs --fixed")?;
+            let planner = LearnedPlanner::new(&fit(&train, h, &counting, spans[0]));
+            let name = format!("learned, + YTVF ×{ytvf_train} in training");
+            println!("{}", row(&name, &evaluate(&planner, &held).0));
+        }
         for (name, p) in baselines {
             println!("{}", row(name, &evaluate(p, &held).0));
         }
@@ -266,7 +318,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let Some(piece) = train.iter().find(|p| p.name == name) else {
             return Err("no such training piece".into());
         };
-        let plan = LearnedPlanner::new(&fit(&rest, h, fifths, spans[0])).plan(&piece.midi)?;
+        let plan = LearnedPlanner::new(&fit(&rest, h, &counting, spans[0])).plan(&piece.midi)?;
         for (i, (f, labels)) in plan.iter().zip(&piece.labels).enumerate() {
             let ok = labels.iter().flatten().any(|l| l.same_string_position(f));
             let l: Vec<String> = labels
@@ -317,13 +369,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     if args.iter().any(|a| a == "--nested") {
-        nested(&train, &grid, &spans, fifths);
+        nested(&train, &grid, &spans, &counting);
         return Ok(());
     }
     let mut best = (f64::NEG_INFINITY, grid[0], spans[0]);
     for span in &spans {
         for h in &grid {
-            let (a, _) = lopo(&train, *h, fifths, *span);
+            let (a, _) = lopo(&train, *h, &counting, *span);
             let (s, sp, any) = a.shares();
             eprintln!("{h:?} {span:?}: {s:.4} {sp:.4} {any:.4}");
             if sp > best.0 {
@@ -338,7 +390,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     );
     println!("| planner | notes | string | string+position | ≥ 1 violinist |");
     println!("|---|---|---|---|---|");
-    let (all, each) = lopo(&train, h, fifths, span);
+    let (all, each) = lopo(&train, h, &counting, span);
     println!("{}", row("learned (LOPO)", &all));
     for (name, p) in baselines {
         println!("{}", row(name, &evaluate(p, &train).0));
@@ -347,8 +399,24 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     for (p, a) in train.iter().zip(&each) {
         println!("{}", row(&p.name, a));
     }
+    if let (Some(ytvf), 0) = (&ytvf, ytvf_train) {
+        let notes: usize = ytvf.iter().map(|p| p.midi.len()).sum();
+        println!(
+            "\n## Held out: YTVF ({} works, {notes} notes, one performer each), fitted on the {} training pieces",
+            ytvf.len(),
+            train.len()
+        );
+        println!("| planner | notes | string | string+position | ≥ 1 violinist |");
+        println!("|---|---|---|---|---|");
+        let ytvf: Vec<&Piece> = ytvf.iter().collect();
+        let learned = LearnedPlanner::new(&fit(&train, h, &counting, span));
+        println!("{}", row("learned", &evaluate(&learned, &ytvf).0));
+        for (name, p) in baselines {
+            println!("{}", row(name, &evaluate(p, &ytvf).0));
+        }
+    }
     if let Some(path) = write {
-        let params: LearnedParams = fit(&train, h, fifths, span);
+        let params: LearnedParams = fit(&train, h, &counting, span);
         std::fs::write(&path, params.to_tsv())?;
         println!(
             "\nparameters fitted on all {} training pieces written to {}",

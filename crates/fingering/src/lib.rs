@@ -53,6 +53,8 @@ mod style;
 mod table;
 #[cfg(feature = "train")]
 pub mod train;
+#[cfg(feature = "train")]
+pub mod ytvf;
 
 pub use cost::CostWeights;
 pub use error::FingeringError;
