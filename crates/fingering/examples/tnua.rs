@@ -78,7 +78,6 @@ fn evaluate(planner: &dyn FingeringPlanner, pieces: &[&Piece]) -> (Agreement, Ve
     (total, each)
 }
 
-/// The parameters fitted on `pieces` with hyper-parameters `h` and span context `span`.
 /// What is counted besides the training pieces themselves.
 struct Counting<'a> {
     /// `--fifths W`: places also counted a fifth up and down.
@@ -87,6 +86,8 @@ struct Counting<'a> {
     extra: Vec<&'a Piece>,
 }
 
+/// The parameters fitted on `pieces` (and `counting`'s extra pieces) with hyper-parameters
+/// `h` and span context `span`.
 fn fit(
     pieces: &[&Piece],
     h: [f64; 6],
