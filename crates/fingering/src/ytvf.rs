@@ -42,7 +42,27 @@ pub fn read_ytvf_dir(dir: &Path) -> Result<Vec<Piece>, FingeringError> {
     paths.iter().map(|p| read_piece(p)).collect()
 }
 
-fn read_piece(path: &Path) -> Result<Piece, FingeringError> {
+/// One row of a YTVF file: a note with its timing in beats, its fingering and its bowing.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct YtvfNote {
+    /// MIDI pitch.
+    pub midi: u8,
+    /// The bar the note starts in, as numbered in the file.
+    pub bar: i32,
+    /// Onset within the bar, beats.
+    pub start_beats: f64,
+    /// Notated duration, beats.
+    pub duration_beats: f64,
+    /// String, position and finger.
+    pub label: Label,
+    /// 1 down-bow, 2 up-bow, 3 right-hand and 4 left-hand pizzicato, 0 not given.
+    pub bowing: u8,
+    /// A natural or artificial harmonic.
+    pub harmonic: bool,
+}
+
+/// Reads one YTVF file's rows in file order (harmonics included, marked).
+pub fn read_ytvf_notes(path: &Path) -> Result<Vec<YtvfNote>, FingeringError> {
     let err = |reason: String| FingeringError::Dataset {
         path: path.display().to_string(),
         reason,
@@ -61,39 +81,63 @@ fn read_piece(path: &Path) -> Result<Piece, FingeringError> {
             .position(|h| *h == name)
             .ok_or_else(|| err(format!("no `{name}` column in the header")))
     };
-    let [pitch, string, position, finger] = ["pitch", "string", "position", "finger"].map(&column);
-    let (pitch, string, position, finger) = (pitch?, string?, position?, finger?);
-    let harmonic = column("harmonic").ok();
-    let mut sequence = Vec::new();
+    let [pitch, bars, start, duration, string, position, finger] = [
+        "pitch", "bars", "start", "duration", "string", "position", "finger",
+    ]
+    .map(&column);
+    let (pitch, bars, start, duration) = (pitch?, bars?, start?, duration?);
+    let (string, position, finger) = (string?, position?, finger?);
+    let (bowing, harmonic) = (column("bowing").ok(), column("harmonic").ok());
+    let mut out = Vec::new();
     for (i, line) in lines.enumerate() {
         if line.trim().is_empty() {
             continue;
         }
         let fields: Vec<&str> = line.split(',').map(str::trim).collect();
-        if harmonic.is_some_and(|k| fields.get(k).is_some_and(|v| !v.is_empty())) {
-            continue;
-        }
+        let bad = |k: usize, what: &str| {
+            let name = header.get(k).copied().unwrap_or("?");
+            err(format!("line {}: column `{name}` is not {what}", i + 2))
+        };
+        let number = |k: usize| -> Result<f64, FingeringError> {
+            (fields.get(k).and_then(|v| v.parse::<f64>().ok()))
+                .filter(|v| v.is_finite() && v.abs() < 1e6)
+                .ok_or_else(|| bad(k, "a number"))
+        };
         let small = |k: usize| -> Result<u8, FingeringError> {
-            fields
-                .get(k)
-                .and_then(|v| v.parse::<f64>().ok())
-                .filter(|v| (0.0..=127.0).contains(v) && v.fract() == 0.0)
-                .map(|v| v as u8)
-                .ok_or_else(|| {
-                    err(format!(
-                        "line {}: column `{}` is not a whole number 0..=127",
-                        i + 2,
-                        header.get(k).copied().unwrap_or("?")
-                    ))
-                })
+            let v = number(k).map_err(|_| bad(k, "a whole number 0..=127"))?;
+            if (0.0..=127.0).contains(&v) && v.fract() == 0.0 {
+                Ok(v as u8)
+            } else {
+                Err(bad(k, "a whole number 0..=127"))
+            }
         };
-        let label = Label {
-            string: small(string)?,
-            position: small(position)?,
-            finger: small(finger)?,
+        let bow = match bowing.and_then(|k| fields.get(k)).filter(|v| !v.is_empty()) {
+            Some(_) => bowing.map_or(Ok(0), small)?,
+            None => 0,
         };
-        sequence.push((small(pitch)?, label));
+        out.push(YtvfNote {
+            midi: small(pitch)?,
+            bar: number(bars)? as i32,
+            start_beats: number(start)?,
+            duration_beats: number(duration)?,
+            label: Label {
+                string: small(string)?,
+                position: small(position)?,
+                finger: small(finger)?,
+            },
+            bowing: bow,
+            harmonic: harmonic.is_some_and(|k| fields.get(k).is_some_and(|v| !v.is_empty())),
+        });
     }
+    Ok(out)
+}
+
+fn read_piece(path: &Path) -> Result<Piece, FingeringError> {
+    let sequence: Vec<(u8, Label)> = read_ytvf_notes(path)?
+        .iter()
+        .filter(|n| !n.harmonic)
+        .map(|n| (n.midi, n.label))
+        .collect();
     let name = path
         .file_stem()
         .map_or_else(String::new, |s| s.to_string_lossy().to_string());
@@ -141,12 +185,27 @@ mod tests {
             })]
         );
         assert_eq!(pieces[0].sequences.len(), 1);
+        let notes = read_ytvf_notes(&dir.join("A tune.csv")).unwrap();
+        assert_eq!(notes.len(), 3);
+        assert!(notes[1].harmonic && !notes[2].harmonic);
+        assert_eq!(notes[1].bowing, 2);
+        let last = notes[2];
+        assert_eq!(
+            (last.bar, last.start_beats, last.duration_beats, last.bowing),
+            (1, 2.0, 1.0, 1)
+        );
         let _ = std::fs::remove_dir_all(dir);
     }
 
     #[test]
     fn refuses_bad_files_with_the_reason() {
-        let missing = dir_with("missing", &[("x.csv", "pitch,string,position\n62,2,1\n")]);
+        let missing = dir_with(
+            "missing",
+            &[(
+                "x.csv",
+                "pitch,bars,start,duration,string,position\n62,1,0,1,2,1\n",
+            )],
+        );
         let e = read_ytvf_dir(&missing).unwrap_err().to_string();
         assert!(e.contains("no `finger` column"), "{e}");
         let bad = dir_with(

@@ -260,3 +260,64 @@ fn file_errors_name_the_file() {
         "{e}"
     );
 }
+
+/// Eight eighths (bar 1), eight 32nds and a quarter (bar 2) at 120 bpm in 4/4, each note
+/// starting `jitter(i)` ticks late and ending `gap` ticks before the next note starts.
+fn run_file(gap: u32, jitter: impl Fn(usize) -> u32) -> Vec<u8> {
+    let lengths = [[240u32; 8].as_slice(), &[60; 8], &[480]].concat();
+    // (tick, event) in time order: note-offs before note-ons at the same tick.
+    let mut at: Vec<(u32, u8, Vec<u8>)> = Vec::new();
+    let mut slot = 0;
+    for (i, len) in lengths.iter().enumerate() {
+        let key = 67 + (i % 5) as u8;
+        at.push((slot + jitter(i), 1, on(key, 80)));
+        at.push((slot + len + jitter(i + 1) - gap, 0, off(key)));
+        slot += len;
+    }
+    at.sort_by_key(|e| (e.0, e.1));
+    let mut ev = vec![(0, tempo(500_000)), (0, time_sig(4, 2))];
+    let mut now = 0;
+    for (tick, _, bytes) in at {
+        ev.push((tick - now, bytes));
+        now = tick;
+    }
+    smf(480, &ev)
+}
+
+#[test]
+fn notated_timing_gets_a_bow_per_note_but_for_ornaments() {
+    use performance::midi::timing_is_notated;
+    let rules = MidiBowing::default();
+    let notated = score_from_midi(&run_file(0, |_| 0), &MidiOptions::default()).unwrap();
+    assert!(timing_is_notated(&notated, &rules));
+    let changes: Vec<bool> = (timeline_from_score_with(&notated, &rules).notes.iter())
+        .map(|n| n.bow_change)
+        .collect();
+    // Every eighth takes a bow; the 32nds (0.0625 s) are slurred up to six; the quarter
+    // takes a bow.
+    let expected = [
+        [true; 8].as_slice(),
+        &[true, false, false, false, false, false, true, false],
+        &[true],
+    ]
+    .concat();
+    assert_eq!(changes, expected);
+    // The rules for played timing would read the touching eighths as one slur.
+    let played = MidiBowing {
+        notated_below_share: 0.0,
+        ..rules
+    };
+    let t = timeline_from_score_with(&notated, &played);
+    assert!(!t.notes[1].bow_change);
+    // Détaché gaps, or touching notes whose onsets are off the beat grid (played legato),
+    // are not notated timing.
+    let detached = score_from_midi(&run_file(20, |_| 0), &MidiOptions::default()).unwrap();
+    assert!(!timing_is_notated(&detached, &rules));
+    let jittered = run_file(0, |i| [0, 7, 3, 11, 5][i % 5]);
+    let played_legato = score_from_midi(&jittered, &MidiOptions::default()).unwrap();
+    assert_eq!(
+        performance::midi::separated_share(&played_legato, 0.001),
+        0.0
+    );
+    assert!(!timing_is_notated(&played_legato, &rules));
+}

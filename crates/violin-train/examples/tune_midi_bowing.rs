@@ -11,7 +11,9 @@
 use std::path::PathBuf;
 
 use corpus::manifest::Split;
-use performance::midi::{timeline_from_score_with, MidiBowing, MidiScore};
+use performance::midi::{
+    separated_share, timeline_from_score_with, timing_is_notated, MidiBowing, MidiScore,
+};
 use performance::{bow_directions, match_events, strokes_of, BowStroke, Note};
 use rayon::prelude::*;
 use violin_train::beat_data::read_first_column;
@@ -84,6 +86,37 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let val = load(Split::Val)?;
     println!("{} validation items", val.len());
+    let gap_s = MidiBowing::default().legato_gap_s;
+    let mut shares: Vec<f64> = val
+        .iter()
+        .map(|it| separated_share(&it.score, gap_s))
+        .collect();
+    shares.sort_by(f64::total_cmp);
+    let at = |q: f64| {
+        shares
+            .get((q * (shares.len() - 1) as f64) as usize)
+            .copied()
+            .unwrap_or(0.0)
+    };
+    println!(
+        "share of consecutive notes apart by a gap (notated timing below {}): min {:.3}, 5 % {:.3}, median {:.3}",
+        MidiBowing::default().notated_below_share,
+        at(0.0),
+        at(0.05),
+        at(0.5)
+    );
+    let notated = (val.iter())
+        .filter(|it| timing_is_notated(&it.score, &MidiBowing::default()))
+        .count();
+    println!("{notated} items read as notated timing");
+    let played = MidiBowing {
+        notated_below_share: 0.0,
+        ..MidiBowing::default()
+    };
+    println!(
+        "{}",
+        line("played-timing rules only", measure(&val, &played))
+    );
     println!(
         "{}",
         line("default rules", measure(&val, &MidiBowing::default()))
