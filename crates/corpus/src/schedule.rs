@@ -22,19 +22,29 @@ use crate::manifest::Split;
 use crate::score::Score;
 use net_core::rng::Rng;
 
-/// The split of a work: 10 % test, 10 % validation, 80 % train, by FNV-1a of its name.
+/// FNV-1a (64-bit) of a work's name: a hash that is the same on every machine and build,
+/// for splitting works.
+///
+/// ```
+/// assert_eq!(corpus::schedule::work_hash(""), 0xcbf2_9ce4_8422_2325);
+/// ```
+pub fn work_hash(work: &str) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for b in work.as_bytes() {
+        h ^= u64::from(*b);
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    h
+}
+
+/// The split of a work: 10 % test, 10 % validation, 80 % train, by [`work_hash`].
 ///
 /// ```
 /// use corpus::schedule::work_split;
 /// assert_eq!(work_split("mozart/k80"), work_split("mozart/k80"));
 /// ```
 pub fn work_split(work: &str) -> Split {
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    for b in work.as_bytes() {
-        h ^= u64::from(*b);
-        h = h.wrapping_mul(0x0000_0100_0000_01b3);
-    }
-    match h % 10 {
+    match work_hash(work) % 10 {
         0 => Split::Test,
         1 => Split::Val,
         _ => Split::Train,

@@ -264,9 +264,10 @@ impl MidiBowing {
     /// The rules for notated timing: every note takes a new bow except notes shorter than
     /// 0.125 s (ornaments, the fastest runs), slurred up to 6 and for at most 1 s. Chosen
     /// against real players' bowing, on half of the YTVF dataset's works (`cargo run
-    /// --release -p violin-train --example ytvf_bowing -- YTVF_DIR 100 --grid`); on the
-    /// other half, bow-change F 0.699 and direction 0.574 of notes, where the default rules
-    /// gave 0.424 and 0.535 by slurring whatever touches.
+    /// --release -p violin-train --example ytvf_bowing -- YTVF_DIR 100 --grid`). On the
+    /// other half, with [`timing_is_notated`] choosing the works they apply to, bow-change
+    /// F 0.690 and direction 0.577 of notes, where the rules for played timing gave 0.424
+    /// and 0.535 by slurring whatever touches.
     pub const NOTATED: MidiBowing = MidiBowing {
         legato_gap_s: 0.001,
         max_slur_notes: 1,

@@ -94,7 +94,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     shares.sort_by(f64::total_cmp);
     let at = |q: f64| {
         shares
-            .get((q * (shares.len() - 1) as f64) as usize)
+            .get((q * shares.len().saturating_sub(1) as f64) as usize)
             .copied()
             .unwrap_or(0.0)
     };

@@ -32,13 +32,9 @@ struct Work {
     bowed: Vec<(f64, bool)>,
 }
 
-/// FNV-1a of the name: even → `tune`, odd → `test`.
+/// Even [`corpus::schedule::work_hash`] of the name → `tune`, odd → `test`.
 fn is_tune(name: &str) -> bool {
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    for b in name.bytes() {
-        h = (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3);
-    }
-    h.is_multiple_of(2)
+    corpus::schedule::work_hash(name).is_multiple_of(2)
 }
 
 /// Bar starts in beats for bars `first..=last`: a bar lasts the work's usual length, or
