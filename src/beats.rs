@@ -203,10 +203,10 @@ pub(crate) fn classic(samples: &[f32], notes: &[Note], bow_changes_s: &[f64]) ->
         },
     )?;
     Ok(Beats {
+        meter: (!b.beats_s.is_empty()).then_some(b.meter),
         beats_s: b.beats_s,
         downbeats_s: b.downbeats_s,
         tempo_bpm: b.tempo_bpm,
-        meter: Some(b.meter),
         confidence: None,
     })
 }

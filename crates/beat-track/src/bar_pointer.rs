@@ -9,7 +9,9 @@
 //! After decoding, beats far from any activation (silence, a long gap) are dropped
 //! ([`BarPointerConfig::gate`]), and the **confidence** — the mean beat activation at all
 //! the decoded beats, dropped or not — says how much the activation supports them: near 0 on silence or noise,
-//! and then no beats are returned at all ([`BarPointerConfig::min_confidence`]).
+//! and then no beats are returned at all ([`BarPointerConfig::min_confidence`]); nor are
+//! they when fewer than [`BarPointerConfig::min_beats`] remain (a lone note). A few beats
+//! get a lower confidence than many ([`BarPointerConfig::full_confidence_beats`]).
 //!
 //! ```
 //! use beat_track::bar_pointer::{decode, BarPointerConfig};
@@ -44,8 +46,9 @@ pub struct BarPointerBeats {
     pub tempo_bpm_per_beat: Vec<f64>,
     /// The median of `tempo_bpm_per_beat` (0 without beats).
     pub tempo_bpm: f64,
-    /// Mean beat activation at every decoded beat (also the dropped ones), 0–1; 0 when
-    /// no beats are returned.
+    /// Mean beat activation at every decoded beat (also the dropped ones), scaled down
+    /// when fewer than [`BarPointerConfig::full_confidence_beats`] beats are returned,
+    /// 0–1; 0 when no beats are returned.
     pub confidence: f32,
     /// Log-probability of the winning path per bar length tried, in the order of
     /// [`BarPointerConfig::beats_per_bar`].
@@ -313,10 +316,14 @@ fn finish(
     }
     // Over every decoded beat, gated or not: a lone note in a minute of silence supports
     // one beat of dozens.
-    let confidence = support / decoded.max(1) as f32;
-    if beats.is_empty() || confidence < cfg.min_confidence {
+    let mean_support = support / decoded.max(1) as f32;
+    // Beats on an activation of their own (the gate keeps its neighbours too).
+    let heard = beats.iter().filter(|b| b.3 >= cfg.gate).count();
+    if heard < cfg.min_beats || mean_support < cfg.min_confidence {
         return out;
     }
+    let evidence = heard as f32 / cfg.full_confidence_beats.max(1) as f32;
+    let confidence = mean_support * evidence.min(1.0);
     // Tempo from the neighbouring intervals that are not gaps (≤ 1.5 decoded periods).
     let tempo: Vec<f64> = (0..beats.len())
         .map(|i| {

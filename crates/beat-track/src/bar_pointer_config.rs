@@ -53,6 +53,14 @@ pub struct BarPointerConfig {
     pub gate_window_s: f64,
     /// Below this confidence no beats are returned.
     pub min_confidence: f32,
+    /// Fewer beats than this on an activation of at least `gate` (the gate's window keeps
+    /// beats near one too) and none are returned, nor a tempo: two beats cannot tell a
+    /// tempo, and a lone note's onset is not a pulse.
+    pub min_beats: usize,
+    /// The confidence is the mean activation at the decoded beats scaled by the share of
+    /// this many beats on an activation of at least `gate` (1 from this many on): a
+    /// handful of beats is weak evidence however clear each one is.
+    pub full_confidence_beats: usize,
     /// Log-probability per decoded frame (at `fps ·` [`Self::selection_rate`]) added to each
     /// bar length's path (same order as `beats_per_bar`; empty = none) before the most likely bar length
     /// is taken: a prior over metres that grows with the recording, as the paths' own
@@ -86,6 +94,10 @@ impl Default for BarPointerConfig {
             gate: 0.1,
             gate_window_s: 1.5,
             min_confidence: 0.1,
+            // Set from what they mean (a tempo needs two intervals; two bars of 4/4 are
+            // enough to trust), not tuned; no validation or test figure moves with them.
+            min_beats: 3,
+            full_confidence_beats: 8,
             // Chosen for the shipped beat-net on the validation split (violin-train's
             // `tune_beats` example, corpus-hook): metre .606 → .654, downbeat F .675 →
             // .689, beat F .799 → .806. The first value sits at the search's edge, on a
@@ -179,6 +191,9 @@ impl BarPointerConfig {
         }
         if !(self.max_beat_region_s >= 0.0 && self.max_beat_region_s.is_finite()) {
             return bad("max_beat_region_s must be ≥ 0 (0 = no limit)");
+        }
+        if self.min_beats > 1000 || self.full_confidence_beats > 1000 {
+            return bad("min_beats and full_confidence_beats must be at most 1000");
         }
         Ok(())
     }

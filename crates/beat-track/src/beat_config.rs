@@ -50,6 +50,15 @@ pub struct BeatConfig {
     /// openings and endings.
     #[serde(default = "default_keep_to_notes")]
     pub keep_to_notes: bool,
+    /// Fewer detected onsets than this, and (with notes) fewer notes, and no beats nor a
+    /// tempo are returned: a lone note's attack is not a pulse, and the dynamic programme
+    /// would lay a tempo over it anyway.
+    #[serde(default = "default_min_onsets")]
+    pub min_onsets: usize,
+}
+
+fn default_min_onsets() -> usize {
+    3
 }
 
 /// Chosen on corpus-fit among weights 0.5–4 and caps of 3–6 (see the crate README).
@@ -80,6 +89,7 @@ impl Default for BeatConfig {
             latency_s: default_latency_s(),
             note_salience: default_note_salience(),
             keep_to_notes: default_keep_to_notes(),
+            min_onsets: default_min_onsets(),
         }
     }
 }

@@ -93,7 +93,8 @@ impl BeatTracker {
             },
             onsets_s,
         };
-        if beat_env.iter().all(|&v| v == 0.0) {
+        let notes = evidence.notes.map_or(0, <[Note]>::len);
+        if beat_env.iter().all(|&v| v == 0.0) || onsets_s.len().max(notes) < self.cfg.min_onsets {
             return Ok(empty(onsets_s));
         }
         let Some((bpm, beats)) = self

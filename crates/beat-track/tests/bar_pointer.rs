@@ -346,3 +346,31 @@ fn the_bar_length_may_be_chosen_at_another_rate() {
     assert_eq!(out.downbeats_s, reference.downbeats_s);
     assert_ne!(out.log_probability, reference.log_probability);
 }
+
+#[test]
+fn a_lone_onset_gives_no_tempo_and_a_few_beats_a_low_confidence() {
+    let cfg = BarPointerConfig::default();
+    // One note in 3.5 s, and two (a second apart) in 4 s: no pulse to tell a tempo by.
+    for (peaks, frames) in [(vec![1.0], 105), (vec![1.0, 2.0], 120)] {
+        let (b, d) = activations(&peaks, 4, frames);
+        let out = decode(&b, &d, &cfg).unwrap();
+        assert!(
+            out.beats_s.is_empty() && out.tempo_bpm == 0.0 && out.confidence == 0.0,
+            "{peaks:?}: {out:?}"
+        );
+    }
+    // Beats returned are at least `min_beats`, and their confidence grows with their
+    // number up to `full_confidence_beats`.
+    let confidence = |to_s: f64| {
+        let beats = steady(120.0, 0.5, to_s);
+        let (b, d) = activations(&beats, 4, (to_s * FPS) as usize + 15);
+        let out = decode(&b, &d, &cfg).unwrap();
+        assert!(out.beats_s.len() >= cfg.min_beats, "{out:?}");
+        assert!((out.tempo_bpm - 120.0).abs() < 5.0, "{out:?}");
+        (out.beats_s.len(), out.confidence)
+    };
+    let (few, low) = confidence(2.5);
+    let (many, high) = confidence(20.0);
+    assert!(few < cfg.full_confidence_beats && many >= cfg.full_confidence_beats);
+    assert!(low < 0.75 * high, "{few} beats {low}, {many} beats {high}");
+}

@@ -106,20 +106,47 @@ fn short_and_silent_audio_do_not_fail() {
                 .collect::<Vec<_>>(),
         ),
         ("silent.wav", vec![0.0f32; 22_050]),
+        // One bowed-like note (50 ms attack) between silences, and 2 s of one tone: no
+        // pulse, so no tempo may be invented.
+        ("one_note.wav", one_note(1.0, 1.5, 1.0)),
+        ("two_s_tone.wav", one_note(0.0, 2.0, 0.0)),
     ] {
         let wav = dir.path().join(name);
         write_wav(&wav, &samples, 22_050);
-        let out = dir.path().join(format!("{name}.json"));
-        let st = analyze(&wav, &out, &["--quiet"]);
-        assert!(
-            st.status.success(),
-            "{name}: {}",
-            String::from_utf8_lossy(&st.stderr)
-        );
-        assert!(st.stderr.is_empty());
-        let a: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
-        assert!(a["beats_s"].as_array().unwrap().len() <= 1, "{name}");
+        // Both beat trackers.
+        for beats in ["learned", "classic"] {
+            let out = dir.path().join(format!("{name}.{beats}.json"));
+            let st = analyze(&wav, &out, &["--quiet", "--beats", beats]);
+            assert!(
+                st.status.success(),
+                "{name}: {}",
+                String::from_utf8_lossy(&st.stderr)
+            );
+            assert!(st.stderr.is_empty());
+            let a: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+            assert!(
+                a["beats_s"].as_array().unwrap().is_empty(),
+                "{name} {beats}"
+            );
+            assert_eq!(a["tempo_bpm"].as_f64(), Some(0.0), "{name} {beats}");
+            assert!(a.get("meter").is_none_or(Value::is_null), "{name} {beats}");
+            let confidence = a["beat_confidence"].as_f64().unwrap_or(0.0);
+            assert!(confidence < 0.1, "{name} {beats}: confidence {confidence}");
+        }
     }
+}
+
+/// `before_s` of silence, a 440 Hz note of `note_s` (50 ms attack), `after_s` of silence.
+fn one_note(before_s: f32, note_s: f32, after_s: f32) -> Vec<f32> {
+    let sr = 22_050.0f32;
+    let n = |s: f32| (s * sr) as usize;
+    let mut out = vec![0.0f32; n(before_s)];
+    out.extend((0..n(note_s)).map(|i| {
+        let t = i as f32 / sr;
+        0.3 * (t / 0.05).min(1.0) * (std::f32::consts::TAU * 440.0 * t).sin()
+    }));
+    out.extend(vec![0.0f32; n(after_s)]);
+    out
 }
 
 #[test]
