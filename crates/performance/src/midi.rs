@@ -340,7 +340,12 @@ pub fn score_from_midi(bytes: &[u8], options: &MidiOptions) -> Result<MidiScore,
 fn check_tempi(map: &TempoMap) -> Result<(), MidiError> {
     let (lo, hi) = TEMPO_RANGE_BPM;
     for &(tick, s, us) in &map.segments {
-        let bpm = 60e6 / us.max(1.0);
+        if us <= 0.0 {
+            return Err(midi_err(format!(
+                "tempo event of 0 microseconds per quarter note (no tempo) at {s:.2} s (tick {tick}); set a tempo within {lo}..={hi} bpm"
+            )));
+        }
+        let bpm = 60e6 / us;
         if !(lo..=hi).contains(&bpm) {
             return Err(midi_err(format!(
                 "tempo {bpm:.0} bpm at {s:.2} s (tick {tick}) is outside {lo}..={hi} bpm"

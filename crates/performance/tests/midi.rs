@@ -197,6 +197,8 @@ fn bad_files_are_refused_with_the_reason() {
     refused(&smf(0, &[(0, on(69, 80)), (480, off(69))]), "division");
     let fast = smf(480, &[(0, tempo(1)), (0, on(69, 80)), (480, off(69))]);
     refused(&fast, "tempo 60000000 bpm");
+    let no_tempo = smf(480, &[(0, tempo(0)), (0, on(69, 80)), (480, off(69))]);
+    refused(&no_tempo, "0 microseconds per quarter note");
     // Hours of silence: a note after 2^27 ticks at 2 s per quarter.
     let silent = smf(
         1,
