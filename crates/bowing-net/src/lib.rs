@@ -17,7 +17,7 @@
 //!   loss weights, augmentation) and `metrics` (P/R/F1 with a frame tolerance);
 //! * [`BowChangeDetector`]: weights + normalisation + decoder in one safetensors file;
 //!   [`BowChangeDetector::pretrained`] is the shipped default (see the README for how it was
-//!   trained);
+//!   trained, and EXPERIMENTS.md for what was tried);
 //! * layers (fast NHWC convolution, max pools with a correct backward, seeded dropout),
 //!   weights files, Adam, schedules and checkpoints come from `net-core`.
 //!
