@@ -110,6 +110,8 @@ fn short_and_silent_audio_do_not_fail() {
         // pulse, so no tempo may be invented.
         ("one_note.wav", one_note(1.0, 1.5, 1.0)),
         ("two_s_tone.wav", one_note(0.0, 2.0, 0.0)),
+        // 8 s of white noise at about −20 dBFS: no beats and no bow strokes either.
+        ("noise.wav", noise(8.0)),
     ] {
         let wav = dir.path().join(name);
         write_wav(&wav, &samples, 22_050);
@@ -132,8 +134,25 @@ fn short_and_silent_audio_do_not_fail() {
             assert!(a.get("meter").is_none_or(Value::is_null), "{name} {beats}");
             let confidence = a["beat_confidence"].as_f64().unwrap_or(0.0);
             assert!(confidence < 0.1, "{name} {beats}: confidence {confidence}");
+            if name == "noise.wav" || name == "silent.wav" {
+                assert!(a["bow_changes_s"].as_array().unwrap().is_empty(), "{name}");
+                assert!(a["bow_strokes"].as_array().unwrap().is_empty(), "{name}");
+            }
         }
     }
+}
+
+/// `seconds` of seeded white noise, RMS about 0.1 (−20 dBFS).
+fn noise(seconds: f32) -> Vec<f32> {
+    let mut x = 0x2545_f491_4f6c_dd1du64;
+    (0..(seconds * 22_050.0) as usize)
+        .map(|_| {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            ((x >> 40) as f32 / (1u64 << 24) as f32 - 0.5) * 0.35
+        })
+        .collect()
 }
 
 /// `before_s` of silence, a 440 Hz note of `note_s` (50 ms attack), `after_s` of silence.
