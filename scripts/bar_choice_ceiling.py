@@ -4,7 +4,7 @@ decoder's readings could fix, and whether a choice learned from what the perform
 does.
 
     cargo run --release -p violin-train --example beat_candidates -- CORPUS cands.jsonl
-    python3 scripts/bar_choice_ceiling.py CORPUS cands.jsonl [--with-labels]
+    python3 scripts/bar_choice_ceiling.py CORPUS cands.jsonl [--with-labels] [--parity]
 
 `beat_candidates` writes, for every training and validation item, each reading the decoder
 could give (each bar length decoded on its own; every other beat of the 2- and 4-beat paths;
@@ -19,7 +19,10 @@ downbeat F / metre / tempo of
   1e-3, 1e-2 (L-BFGS), on the activation features alone or, with `--with-labels`, also on
   features from the *labelled* notes and bow changes (where the readings' downbeats and
   beats fall on note onsets and bow changes, notes per beat, the length of notes starting on
-  downbeats): an upper bound on what a transcription could add.
+  downbeats): an upper bound on what a transcription could add; with `--parity`, also the
+  share of consecutive downbeats (and beats) an even number of *labelled* bow changes apart
+  (the same bow direction: players hook strokes so that bars start down-bow), alone and per
+  bar length.
 
 The test split is never read.
 """
@@ -32,6 +35,7 @@ from scipy.optimize import minimize
 
 PRIOR = [-0.03, 0.01, 0.005, 0.0]  # BarPointerConfig::bar_length_prior_per_frame
 KINDS = ["decoded", "half", "double"]
+PARITY = "--parity" in sys.argv
 MEASURES = ["beat_f", "downbeat_f", "metre_ok", "tempo_ok"]
 
 
@@ -70,10 +74,23 @@ def label_features(c, bows, notes):
             np.log2(max(per_beat, 0.1)), (length_at(down) - length_at(other)) / max(median, 1e-3)]
 
 
+def parity_features(c, bows):
+    """Share of consecutive downbeats (and beats) an even number of bow changes apart: the
+    same bow direction, as players hook strokes so that bars start down-bow."""
+    out = []
+    for ts in (np.asarray(c["downbeats_s"]), np.asarray(c["beats_s"])):
+        if len(ts) < 2 or len(bows) == 0:
+            out.append(0.5)
+            continue
+        n = np.searchsorted(bows, ts + 0.05)
+        out.append(float(np.mean(np.diff(n) % 2 == 0)))
+    return out
+
+
 def features(item, corpus, with_labels):
     cands = item["candidates"]
     top = max(c["log_p_per_frame"] for c in cands)
-    if with_labels:
+    if with_labels or PARITY:
         d = os.path.join(corpus, item["item"])
         bows = np.array([float(x) for x in open(os.path.join(d, "bowchanges.txt")) if x.strip()])
         notes = np.loadtxt(os.path.join(d, "notes.tsv"), skiprows=1, usecols=(0, 1), ndmin=2)
@@ -90,6 +107,9 @@ def features(item, corpus, with_labels):
         if with_labels:
             e = label_features(c, bows, notes)
             x += e + [n * (e[0] - e[1]) for n in bar] + [n * (e[3] - e[4]) for n in bar]
+        if PARITY:
+            pf = parity_features(c, bows)
+            x += pf + [n * pf[0] for n in bar]
         rows.append(x)
     return np.array(rows, dtype=float)
 
