@@ -22,7 +22,10 @@ downbeat F / metre / tempo of
   downbeats): an upper bound on what a transcription could add; with `--parity`, also the
   share of consecutive downbeats (and beats) an even number of *labelled* bow changes apart
   (the same bow direction: players hook strokes so that bars start down-bow), alone and per
-  bar length.
+  bar length. `--parity` also prints the decoder's own choice with that share added to each
+  bar length's score (log-probability per frame + prior + w × share, w = 0 … 0.08), from
+  the labelled bow changes or, with `--analysed DIR`, from those of `violin-skeleton
+  analyze` outputs in DIR (named after the item folder, `items_00012.json`; validation only).
 
 The test split is never read.
 """
@@ -139,6 +142,26 @@ def summary(items, chosen):
     return "; ".join(f"{name} ({n}) {v}" for name, n, v in out)
 
 
+def parity_in_decoder(split, corpus, analysed):
+    """The decoded bar length chosen by log-probability + prior + w × downbeat parity."""
+    def bows_of(it):
+        if analysed is None:
+            path = os.path.join(corpus, it["item"], "bowchanges.txt")
+            return np.array([float(x) for x in open(path) if x.strip()])
+        a = json.load(open(os.path.join(analysed, it["item"].replace("/", "_") + ".json")))
+        return np.array(a["bow_changes_s"])
+
+    for name, its in split.items():
+        if analysed is not None and name != "Val":
+            continue
+        bows = {it["item"]: bows_of(it) for it in its}
+        for w in (0, 0.005, 0.01, 0.02, 0.04, 0.08):
+            chosen = [max((c for c in it["candidates"] if c["kind"] == "decoded"),
+                          key=lambda c: c["log_p_per_frame"] + PRIOR[c["prior_index"]]
+                          + w * parity_features(c, bows[it["item"]])[0]) for it in its]
+            print(f"decoder + {w:g} × parity, {name}: {summary(its, chosen)}")
+
+
 def main():
     corpus, path = sys.argv[1], sys.argv[2]
     with_labels = "--with-labels" in sys.argv
@@ -151,6 +174,11 @@ def main():
         best = [max(it["candidates"], key=target) for it in its]
         print(f"{name}: shipped choice: {summary(its, current)}")
         print(f"{name}: best reading:   {summary(its, best)}")
+    if PARITY:
+        analysed = sys.argv[sys.argv.index("--analysed") + 1] if "--analysed" in sys.argv else None
+        parity_in_decoder(split, corpus, analysed)
+        if analysed is not None:
+            return
     xs = {s: [features(it, corpus, with_labels) for it in its] for s, its in split.items()}
     ys = {s: [np.array([target(c) for c in it["candidates"]]) for it in its] for s, its in split.items()}
     stacked = np.vstack(xs["Train"])
