@@ -36,7 +36,8 @@ import sys
 import numpy as np
 from scipy.optimize import minimize
 
-PRIOR = [-0.03, 0.01, 0.005, 0.0]  # BarPointerConfig::bar_length_prior_per_frame
+from corpus_items import DECODER_PRIOR, shipped_choice
+
 KINDS = ["decoded", "half", "double"]
 PARITY = "--parity" in sys.argv
 MEASURES = ["beat_f", "downbeat_f", "metre_ok", "tempo_ok"]
@@ -157,7 +158,7 @@ def parity_in_decoder(split, corpus, analysed):
         bows = {it["item"]: bows_of(it) for it in its}
         for w in (0, 0.005, 0.01, 0.02, 0.04, 0.08):
             chosen = [max((c for c in it["candidates"] if c["kind"] == "decoded"),
-                          key=lambda c: c["log_p_per_frame"] + PRIOR[c["prior_index"]]
+                          key=lambda c: c["log_p_per_frame"] + DECODER_PRIOR[c["prior_index"]]
                           + w * parity_features(c, bows[it["item"]])[0]) for it in its]
             print(f"decoder + {w:g} × parity, {name}: {summary(its, chosen)}")
 
@@ -169,8 +170,7 @@ def main():
     split = {s: [it for it in items if it["split"] == s] for s in ("Train", "Val")}
     print("beat F / downbeat F / metre / tempo within 8 %")
     for name, its in split.items():
-        current = [max((c for c in it["candidates"] if c["kind"] == "decoded"),
-                       key=lambda c: c["log_p_per_frame"] + PRIOR[c["prior_index"]]) for it in its]
+        current = [shipped_choice(it) for it in its]
         best = [max(it["candidates"], key=target) for it in its]
         print(f"{name}: shipped choice: {summary(its, current)}")
         print(f"{name}: best reading:   {summary(its, best)}")

@@ -24,9 +24,7 @@ import sys
 
 import numpy as np
 
-
-def column(path):
-    return [float(x.split()[0]) for x in open(path).read().split("\n") if x.strip()]
+from corpus_items import column
 
 
 def pc_hist(notes, a, b):

@@ -13,11 +13,7 @@ import sys
 
 import numpy as np
 
-PRIOR = [-0.03, 0.01, 0.005, 0.0]  # BarPointerConfig::bar_length_prior_per_frame
-
-
-def column(path):
-    return np.array([float(x.split()[0]) for x in open(path).read().split("\n") if x.strip()])
+from corpus_items import column, f_measure, shipped_choice
 
 
 def matched(ref, est):
@@ -38,9 +34,8 @@ def main():
         it = json.loads(line)
         if it["etude"] or it["split"] != split:
             continue
-        c = max((c for c in it["candidates"] if c["kind"] == "decoded"),
-                key=lambda c: c["log_p_per_frame"] + PRIOR[c["prior_index"]])
-        ref = column(f"{corpus}/{it['item']}/beats.txt")
+        c = shipped_choice(it)
+        ref = np.array(column(f"{corpus}/{it['item']}/beats.txt"))
         est = np.array(c["beats_s"])
         ref, est = ref[ref >= 5], est[est >= 5]
         if len(ref) == 0:
@@ -51,7 +46,7 @@ def main():
         after += int(np.sum(est > ref[-1] + 0.07))
         m2, e2 = m2 + matched(ref, keep), e2 + len(keep)
     print(f"{split} works: {e} beats, {after} after the last labelled beat; beat F "
-          f"{2 * m / (r + e):.3f}, without the beats after the last note's end {2 * m2 / (r + e2):.3f}")
+          f"{f_measure(m, r, e):.3f}, without the beats after the last note's end {f_measure(m2, r, e2):.3f}")
 
 
 if __name__ == "__main__":

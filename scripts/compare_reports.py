@@ -19,14 +19,12 @@ import json
 import math
 import sys
 
+from corpus_items import f_measure
+
 EVENTS = ["bow_changes_2f", "onsets", "beats", "downbeats", "bowing_attacks_3f"]
 TALLIES = ["stroke_directions", "sounding_strings"]
 FLAGS = ["meter_correct", "tempo_correct"]
 DISTANCES = ["right_wrist_l1_px", "skeleton_l1_px", "jitter_px"]
-
-
-def f1(c):
-    return 2 * c["matched"] / max(c["reference"] + c["estimated"], 1)
 
 
 def per_item(rec, key):
@@ -34,7 +32,7 @@ def per_item(rec, key):
     if v is None:
         return None
     if key in EVENTS:
-        return f1(v)
+        return f_measure(v["matched"], v["reference"], v["estimated"])
     if key in TALLIES:
         return v["right"] / v["total"] if v["total"] else None
     return float(v)
@@ -45,8 +43,7 @@ def pooled(recs, key):
     if not rows:
         return float("nan")
     if key in EVENTS:
-        m = sum(r[key]["matched"] for r in rows)
-        return 2 * m / max(sum(r[key]["reference"] + r[key]["estimated"] for r in rows), 1)
+        return f_measure(*(sum(r[key][k] for r in rows) for k in ("matched", "reference", "estimated")))
     if key in TALLIES:
         return sum(r[key]["right"] for r in rows) / max(sum(r[key]["total"] for r in rows), 1)
     if key in FLAGS:
