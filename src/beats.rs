@@ -1,6 +1,7 @@
 //! Beats, downbeats, metre and tempo of a recording: beat-net's learned activation decoded
-//! by `beat_track::bar_pointer` (the default), or the classic onset/dynamic-programming
-//! tracker of `beat-track` ([`BeatMethod::Classic`]).
+//! by `beat_track::bar_pointer` (the default; no beat after the music's release, see
+//! [`AFTER_MUSIC_END_S`]), or the classic onset/dynamic-programming tracker of `beat-track`
+//! ([`BeatMethod::Classic`]).
 
 use beat_net::Activations;
 use beat_track::bar_pointer::{self, BarPointerConfig};
@@ -151,12 +152,43 @@ pub(crate) struct Beats {
 /// stroke network's down-bow output added nothing (0.725).
 pub(crate) const BOW_CHANGE_DOWNBEAT_BONUS: f32 = 1.0;
 
+/// Beats and downbeats later than this after the music has ended ([`music_end_s`]) are
+/// dropped. Chosen on the corpus's validation split (rule R65,
+/// `crates/beat-track/EXPERIMENTS.md`).
+pub(crate) const AFTER_MUSIC_END_S: f64 = 0.1;
+
+/// Where the music ends: the release of the note that ends last
+/// ([`pitch_track::release_s`]: where its level fell for good, not where the room stopped
+/// ringing). `None` without notes.
+pub(crate) fn music_end_s(
+    notes: &[Note],
+    samples: &[f32],
+    sample_rate_hz: u32,
+) -> Result<Option<f64>> {
+    let Some(last) = notes
+        .iter()
+        .filter(|n| n.offset_s.is_finite())
+        .max_by(|a, b| a.offset_s.total_cmp(&b.offset_s))
+    else {
+        return Ok(None);
+    };
+    let cfg = pitch_track::ReleaseConfig::default();
+    Ok(Some(pitch_track::release_s(
+        last,
+        samples,
+        sample_rate_hz,
+        &cfg,
+    )?))
+}
+
 /// The learned path: bar-pointer decoding of `act`, the bars phased on the bow changes;
-/// compound or simple from the notes.
+/// compound or simple from the notes; no beat later than [`AFTER_MUSIC_END_S`] after
+/// `end_s`, where the music ends ([`music_end_s`], when known).
 pub(crate) fn learned(
     act: &Activations,
     notes: &[Note],
     bow_changes_s: &[f64],
+    end_s: Option<f64>,
     hints: &BeatHints,
 ) -> Result<Beats> {
     hints.check()?;
@@ -173,8 +205,18 @@ pub(crate) fn learned(
             *e = BOW_CHANGE_DOWNBEAT_BONUS;
         }
     }
-    let decoded =
+    let mut decoded =
         bar_pointer::decode_with_downbeat_evidence(&act.beat, &act.downbeat, &evidence, &cfg)?;
+    if let Some(end) = end_s.filter(|e| e.is_finite()) {
+        let last = end + AFTER_MUSIC_END_S;
+        decoded.beats_s.retain(|&t| t <= last);
+        decoded.downbeats_s.retain(|&t| t <= last);
+        if decoded.beats_s.is_empty() {
+            // Music too short to hold a beat: no tempo either, as for silence.
+            decoded.tempo_bpm = 0.0;
+            decoded.confidence = 0.0;
+        }
+    }
     let onsets: Vec<f64> = notes.iter().map(|n| n.onset_s).collect();
     let meter = (!decoded.beats_s.is_empty()).then(|| match hints.time_signature {
         Some(ts) => ts.meter(),
@@ -221,11 +263,49 @@ mod tests {
             beat: vec![0.0; 900],
             downbeat: vec![0.0; 900],
         };
-        let b = learned(&act, &[], &[1.0, 2.0], &BeatHints::default()).unwrap();
+        let b = learned(&act, &[], &[1.0, 2.0], None, &BeatHints::default()).unwrap();
         assert!(b.beats_s.is_empty() && b.meter.is_none());
         assert_eq!(b.confidence, Some(0.0));
         assert_eq!("classic".parse::<BeatMethod>(), Ok(BeatMethod::Classic));
         assert!("x".parse::<BeatMethod>().is_err());
+    }
+
+    #[test]
+    fn no_beat_is_kept_after_the_music_ends() {
+        let act = ambiguous();
+        let all = learned(&act, &[], &[], None, &BeatHints::default()).unwrap();
+        assert!(all.beats_s.iter().any(|&t| t > 20.0), "{:?}", all.beats_s);
+        let cut = learned(&act, &[], &[], Some(12.0), &BeatHints::default()).unwrap();
+        let last = 12.0 + AFTER_MUSIC_END_S;
+        assert!(cut.beats_s.iter().all(|&t| t <= last), "{:?}", cut.beats_s);
+        assert!(cut.downbeats_s.iter().all(|&t| t <= last));
+        // The beats before the end are the untrimmed decoding's.
+        let before: Vec<f64> = all.beats_s.iter().copied().filter(|&t| t <= last).collect();
+        assert_eq!(cut.beats_s, before);
+        assert_eq!(cut.tempo_bpm, all.tempo_bpm);
+        // Music ending before the first beat: nothing, and no tempo.
+        let none = learned(&act, &[], &[], Some(-1.0), &BeatHints::default()).unwrap();
+        assert!(none.beats_s.is_empty() && none.meter.is_none() && none.tempo_bpm == 0.0);
+        // A NaN end is no end.
+        let nan = learned(&act, &[], &[], Some(f64::NAN), &BeatHints::default()).unwrap();
+        assert_eq!(nan.beats_s, all.beats_s);
+    }
+
+    #[test]
+    fn the_music_ends_where_the_last_note_is_released() {
+        let sr = 8_000u32;
+        // A4 for 1 s, then its ring falling 60 dB/s for 1 s, then silence.
+        let x: Vec<f32> = (0..3 * sr as usize)
+            .map(|i| {
+                let t = i as f32 / sr as f32;
+                let db = if t < 1.0 { 0.0 } else { -60.0 * (t - 1.0) };
+                10f32.powf(db / 20.0) * (std::f32::consts::TAU * 440.0 * t).sin()
+            })
+            .collect();
+        let notes = [Note::new(0.2, 0.6, 64), Note::new(0.6, 1.9, 69)];
+        let end = music_end_s(&notes, &x, sr).unwrap().unwrap();
+        assert!((end - 1.1).abs() < 0.05, "{end}");
+        assert_eq!(music_end_s(&[], &x, sr).unwrap(), None);
     }
 
     /// 30 s at 120 bpm, every beat alike (a downbeat probability of 0.3 on each): the bar
@@ -247,7 +327,7 @@ mod tests {
                 time_signature: ts.map(|t| t.parse().unwrap()),
                 tempo_range_bpm: tempo,
             };
-            learned(&act, &[], &[], &hints).unwrap()
+            learned(&act, &[], &[], None, &hints).unwrap()
         };
         for (ts, meter) in [
             ("3/4", Meter::THREE_FOUR),
@@ -272,7 +352,7 @@ mod tests {
             ..BeatHints::default()
         };
         assert!(matches!(
-            learned(&act, &[], &[], &bad),
+            learned(&act, &[], &[], None, &bad),
             Err(Error::BeatHint(_))
         ));
         let long_bar = BeatHints {

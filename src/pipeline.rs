@@ -205,7 +205,10 @@ impl Pipeline {
         let bow_changes_s = bowed.bow_changes_s.clone();
         let clock = Instant::now();
         let beats = match &activations {
-            Some(act) => beats::learned(act, &notes, &bow_changes_s, &self.beat_hints)?,
+            Some(act) => {
+                let end_s = beats::music_end_s(&notes, samples, rate)?;
+                beats::learned(act, &notes, &bow_changes_s, end_s, &self.beat_hints)?
+            }
             None => beats::classic(samples, &notes, &bow_changes_s)?,
         };
         let beats_s = clock.elapsed().as_secs_f64();
