@@ -10,13 +10,16 @@
 //! the facade's and is chosen with `violin-skeleton evaluate --split val`.
 //!
 //! `cargo run --release -p violin-train --example tune_beats -- corpus-hook [WEIGHTS]
-//! [--music etude|repertoire] [--prior-only] [--band-shifts LIST] [--score-only]`
+//! [--music etude|repertoire] [--prior-only] [--band-shifts LIST] [--score-only]
+//! [--extra-val DIR]…`
 //!
 //! `--music repertoire` keeps the validation items of validation works (the stand-in for
 //! held-out repertoire: the same figures within a few points), `--music etude` the études;
 //! `--prior-only` skips the grid. `--band-shifts -2,0,2` averages the activations of the mel
 //! moved by those bands (test-time averaging over the training's band-shift augmentation)
 //! and `--score-only` prints the figures of the shipped decoder settings and stops.
+//! `--extra-val DIR` (repeatable) pools the validation items of more corpora, e.g. the same
+//! items played by the validation violins (`corpus … --validation-violin`).
 
 use std::path::PathBuf;
 
@@ -55,7 +58,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .enumerate()
         .filter(|(i, a)| {
             !a.starts_with("--")
-                && (*i == 0 || !["--music", "--band-shifts"].contains(&all[i - 1].as_str()))
+                && (*i == 0
+                    || !["--music", "--band-shifts", "--extra-val"].contains(&all[i - 1].as_str()))
         })
         .map(|(_, a)| a.clone());
     let dir: PathBuf = args
@@ -66,27 +70,35 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         Some(p) => BeatActivation::load(&PathBuf::from(p))?,
         None => BeatActivation::pretrained()?,
     };
-    let manifest = read_manifest(&dir)?;
+    let mut corpora = vec![dir];
+    corpora.extend(
+        flag_values(&all, "--extra-val")
+            .into_iter()
+            .map(PathBuf::from),
+    );
     let mut items = Vec::new();
-    for it in manifest.items.iter().filter(|it| it.split == Split::Val) {
-        match music {
-            Some("etude") if !it.is_etude() => continue,
-            Some("repertoire") if it.is_etude() => continue,
-            _ => {}
+    for dir in &corpora {
+        let manifest = read_manifest(dir)?;
+        for it in manifest.items.iter().filter(|it| it.split == Split::Val) {
+            match music {
+                Some("etude") if !it.is_etude() => continue,
+                Some("repertoire") if it.is_etude() => continue,
+                _ => {}
+            }
+            let d = dir.join(&it.dir);
+            let mel = cached_mel30(&d, &corpus::layout::item_audio(&d))?;
+            let labels: serde_json::Value =
+                serde_json::from_str(&std::fs::read_to_string(d.join("labels.json"))?)?;
+            let act = shifted_activations(&net, &mel, &shifts)?;
+            items.push(Item {
+                frames: act.beat.len() as f64,
+                act,
+                beats: read_first_column(&d.join("beats.txt"))?,
+                downbeats: read_first_column(&d.join("downbeats.txt"))?,
+                bar: labels["beats_per_bar"].as_u64(),
+                tempo: violin_train::beat_data::notated_meter(&d).1,
+            });
         }
-        let d = dir.join(&it.dir);
-        let mel = cached_mel30(&d, &corpus::layout::item_audio(&d))?;
-        let labels: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(d.join("labels.json"))?)?;
-        let act = shifted_activations(&net, &mel, &shifts)?;
-        items.push(Item {
-            frames: act.beat.len() as f64,
-            act,
-            beats: read_first_column(&d.join("beats.txt"))?,
-            downbeats: read_first_column(&d.join("downbeats.txt"))?,
-            bar: labels["beats_per_bar"].as_u64(),
-            tempo: violin_train::beat_data::notated_meter(&d).1,
-        });
     }
     println!("{} validation items", items.len());
     if score_only {
@@ -132,6 +144,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     tune_prior(&items)
+}
+
+/// Every value given after `flag` (the flag may be repeated).
+fn flag_values<'a>(args: &'a [String], flag: &str) -> Vec<&'a str> {
+    args.windows(2)
+        .filter(|w| w[0] == flag)
+        .map(|w| w[1].as_str())
+        .collect()
 }
 
 /// The activations of `mel`, averaged over copies whose bands are moved by `shifts`.
