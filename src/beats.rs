@@ -1,7 +1,7 @@
 //! Beats, downbeats, metre and tempo of a recording: beat-net's learned activation decoded
-//! by `beat_track::bar_pointer` (the default; no beat after the music's release, see
-//! [`AFTER_MUSIC_END_S`]), or the classic onset/dynamic-programming tracker of `beat-track`
-//! ([`BeatMethod::Classic`]).
+//! by `beat_track::bar_pointer` (the default), or the classic onset/dynamic-programming
+//! tracker of `beat-track` ([`BeatMethod::Classic`]); neither keeps a beat after the music's
+//! release ([`AFTER_MUSIC_END_S`]).
 
 use beat_net::Activations;
 use beat_track::bar_pointer::{self, BarPointerConfig};
@@ -153,7 +153,7 @@ pub(crate) struct Beats {
 pub(crate) const BOW_CHANGE_DOWNBEAT_BONUS: f32 = 1.0;
 
 /// Beats and downbeats later than this after the music has ended ([`music_end_s`]) are
-/// dropped. Chosen on the corpus's validation split (rule R65,
+/// dropped, by both trackers. Chosen on the corpus's validation split (rules R65 and R70,
 /// `crates/beat-track/EXPERIMENTS.md`).
 pub(crate) const AFTER_MUSIC_END_S: f64 = 0.1;
 
@@ -207,10 +207,8 @@ pub(crate) fn learned(
     }
     let mut decoded =
         bar_pointer::decode_with_downbeat_evidence(&act.beat, &act.downbeat, &evidence, &cfg)?;
-    if let Some(end) = end_s.filter(|e| e.is_finite()) {
-        let last = end + AFTER_MUSIC_END_S;
-        decoded.beats_s.retain(|&t| t <= last);
-        decoded.downbeats_s.retain(|&t| t <= last);
+    if end_s.is_some_and(|e| e.is_finite()) {
+        trim_after(end_s, &mut decoded.beats_s, &mut decoded.downbeats_s);
         if decoded.beats_s.is_empty() {
             // Music too short to hold a beat: no tempo either, as for silence.
             decoded.tempo_bpm = 0.0;
@@ -234,9 +232,25 @@ pub(crate) fn learned(
     })
 }
 
+/// Drops the beats and downbeats later than [`AFTER_MUSIC_END_S`] after `end_s` (a finite
+/// end only).
+fn trim_after(end_s: Option<f64>, beats_s: &mut Vec<f64>, downbeats_s: &mut Vec<f64>) {
+    if let Some(end) = end_s.filter(|e| e.is_finite()) {
+        let last = end + AFTER_MUSIC_END_S;
+        beats_s.retain(|&t| t <= last);
+        downbeats_s.retain(|&t| t <= last);
+    }
+}
+
 /// The classic tracker on the analysis-rate samples; notes and bow changes are metre
-/// evidence (bars tend to start with a new bow).
-pub(crate) fn classic(samples: &[f32], notes: &[Note], bow_changes_s: &[f64]) -> Result<Beats> {
+/// evidence (bars tend to start with a new bow); no beat later than [`AFTER_MUSIC_END_S`]
+/// after `end_s`, as on the learned path.
+pub(crate) fn classic(
+    samples: &[f32],
+    notes: &[Note],
+    bow_changes_s: &[f64],
+    end_s: Option<f64>,
+) -> Result<Beats> {
     let b = beat_track::BeatTracker::new(beat_track::BeatConfig::default())?.track_with(
         samples,
         beat_track::BarEvidence {
@@ -244,11 +258,16 @@ pub(crate) fn classic(samples: &[f32], notes: &[Note], bow_changes_s: &[f64]) ->
             bow_changes_s: Some(bow_changes_s),
         },
     )?;
+    let (mut beats_s, mut downbeats_s, mut tempo_bpm) = (b.beats_s, b.downbeats_s, b.tempo_bpm);
+    trim_after(end_s, &mut beats_s, &mut downbeats_s);
+    if beats_s.is_empty() {
+        tempo_bpm = 0.0;
+    }
     Ok(Beats {
-        meter: (!b.beats_s.is_empty()).then_some(b.meter),
-        beats_s: b.beats_s,
-        downbeats_s: b.downbeats_s,
-        tempo_bpm: b.tempo_bpm,
+        meter: (!beats_s.is_empty()).then_some(b.meter),
+        beats_s,
+        downbeats_s,
+        tempo_bpm,
         confidence: None,
     })
 }
@@ -289,6 +308,35 @@ mod tests {
         // A NaN end is no end.
         let nan = learned(&act, &[], &[], Some(f64::NAN), &BeatHints::default()).unwrap();
         assert_eq!(nan.beats_s, all.beats_s);
+    }
+
+    #[test]
+    fn the_classic_tracker_stops_at_the_end_too() {
+        let sr = dsp_mel::DEFAULT_ANALYSIS_RATE_HZ;
+        // Plucked A4s every 0.5 s for 12 s.
+        let x: Vec<f32> = (0..12 * sr as usize)
+            .map(|i| {
+                let t = i as f32 / sr as f32;
+                let since = t % 0.5;
+                (-since * 12.0).exp() * (std::f32::consts::TAU * 440.0 * t).sin()
+            })
+            .collect();
+        let notes: Vec<Note> = (0..24)
+            .map(|k| Note::new(k as f64 * 0.5, k as f64 * 0.5 + 0.45, 69))
+            .collect();
+        let all = classic(&x, &notes, &[], None).unwrap();
+        assert!(all.beats_s.iter().any(|&t| t > 8.0), "{:?}", all.beats_s);
+        let cut = classic(&x, &notes, &[], Some(6.0)).unwrap();
+        assert!(!cut.beats_s.is_empty());
+        assert!(cut.beats_s.iter().all(|&t| t <= 6.0 + AFTER_MUSIC_END_S));
+        assert!(cut
+            .downbeats_s
+            .iter()
+            .all(|&t| t <= 6.0 + AFTER_MUSIC_END_S));
+        let before: Vec<f64> = all.beats_s.iter().copied().filter(|&t| t <= 6.1).collect();
+        assert_eq!(cut.beats_s, before);
+        let none = classic(&x, &notes, &[], Some(-1.0)).unwrap();
+        assert!(none.beats_s.is_empty() && none.meter.is_none() && none.tempo_bpm == 0.0);
     }
 
     #[test]

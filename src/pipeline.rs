@@ -204,12 +204,10 @@ impl Pipeline {
         let (bowed, activations, arousal, bowing_s, arousal_s) = nets?;
         let bow_changes_s = bowed.bow_changes_s.clone();
         let clock = Instant::now();
+        let end_s = beats::music_end_s(&notes, samples, rate)?;
         let beats = match &activations {
-            Some(act) => {
-                let end_s = beats::music_end_s(&notes, samples, rate)?;
-                beats::learned(act, &notes, &bow_changes_s, end_s, &self.beat_hints)?
-            }
-            None => beats::classic(samples, &notes, &bow_changes_s)?,
+            Some(act) => beats::learned(act, &notes, &bow_changes_s, end_s, &self.beat_hints)?,
+            None => beats::classic(samples, &notes, &bow_changes_s, end_s)?,
         };
         let beats_s = clock.elapsed().as_secs_f64();
         timings.pitch_s = pitch_s;
