@@ -207,13 +207,11 @@ pub(crate) fn learned(
     }
     let mut decoded =
         bar_pointer::decode_with_downbeat_evidence(&act.beat, &act.downbeat, &evidence, &cfg)?;
-    if end_s.is_some_and(|e| e.is_finite()) {
-        trim_after(end_s, &mut decoded.beats_s, &mut decoded.downbeats_s);
-        if decoded.beats_s.is_empty() {
-            // Music too short to hold a beat: no tempo either, as for silence.
-            decoded.tempo_bpm = 0.0;
-            decoded.confidence = 0.0;
-        }
+    trim_after(end_s, &mut decoded.beats_s, &mut decoded.downbeats_s);
+    if decoded.beats_s.is_empty() {
+        // No beat (silence, or music too short to hold one): no tempo, no confidence.
+        decoded.tempo_bpm = 0.0;
+        decoded.confidence = 0.0;
     }
     let onsets: Vec<f64> = notes.iter().map(|n| n.onset_s).collect();
     let meter = (!decoded.beats_s.is_empty()).then(|| match hints.time_signature {
@@ -261,6 +259,7 @@ pub(crate) fn classic(
     let (mut beats_s, mut downbeats_s, mut tempo_bpm) = (b.beats_s, b.downbeats_s, b.tempo_bpm);
     trim_after(end_s, &mut beats_s, &mut downbeats_s);
     if beats_s.is_empty() {
+        // As on the learned path: no beat, no tempo.
         tempo_bpm = 0.0;
     }
     Ok(Beats {

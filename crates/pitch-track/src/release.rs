@@ -93,10 +93,29 @@ pub fn release_s(
     if b <= keep {
         return Ok(note.offset_s);
     }
-    let level: Vec<f32> = samples[a * hop..(b * hop).min(samples.len())]
+    // Mean power of each frame (non-finite samples count as 0), in dB with a −120 dB floor.
+    let mut level: Vec<f32> = samples[a * hop..(b * hop).min(samples.len())]
         .chunks(hop)
-        .map(rms_db)
+        .map(|frame| {
+            let energy: f64 = frame
+                .iter()
+                .map(|&v| {
+                    if v.is_finite() {
+                        f64::from(v).powi(2)
+                    } else {
+                        0.0
+                    }
+                })
+                .sum();
+            (energy / frame.len() as f64) as f32
+        })
         .collect();
+    let db = dsp_mel::DbConfig {
+        reference: dsp_mel::DbRef::Value(1.0),
+        amin: 1e-12,
+        top_db: None,
+    };
+    dsp_mel::power_to_db(&mut level, &db);
     let mut sorted = level.clone();
     sorted.sort_by(f32::total_cmp);
     let sustained = sorted[(sorted.len() * 9 / 10).min(sorted.len() - 1)];
@@ -110,22 +129,6 @@ pub fn release_s(
     } else {
         note.offset_s
     })
-}
-
-/// RMS level of a frame in dB (−120 dB floor; non-finite samples count as 0).
-fn rms_db(frame: &[f32]) -> f32 {
-    let energy = frame
-        .iter()
-        .map(|&v| {
-            if v.is_finite() {
-                f64::from(v).powi(2)
-            } else {
-                0.0
-            }
-        })
-        .sum::<f64>()
-        / frame.len().max(1) as f64;
-    (10.0 * energy.max(1e-12).log10()) as f32
 }
 
 #[cfg(test)]

@@ -29,7 +29,7 @@ use beat_track::eval::{beat_prf, trim_beats};
 use corpus::manifest::Split;
 use violin_train::beat_data::read_first_column;
 use violin_train::bowing_data::read_manifest;
-use violin_train::example_args::flag_value;
+use violin_train::example_args::{flag_value, flag_values};
 use violin_train::feature_cache::cached_mel30;
 
 struct Item {
@@ -72,7 +72,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let mut corpora = vec![dir];
     corpora.extend(
-        flag_values(&all, "--extra-val")
+        flag_values(&all, "--extra-val")?
             .into_iter()
             .map(PathBuf::from),
     );
@@ -144,14 +144,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     tune_prior(&items)
-}
-
-/// Every value given after `flag` (the flag may be repeated).
-fn flag_values<'a>(args: &'a [String], flag: &str) -> Vec<&'a str> {
-    args.windows(2)
-        .filter(|w| w[0] == flag)
-        .map(|w| w[1].as_str())
-        .collect()
 }
 
 /// The activations of `mel`, averaged over copies whose bands are moved by `shifts`.
