@@ -17,6 +17,11 @@ Two cues, both from the labels (an upper bound on what an analysis could recover
 * **Bow direction**: the share of down-bows among the strokes that start on each beat of the
   bar (players hook strokes so that bars start down-bow). A mid-bar beat that is seldom a
   down-bow separates the bar length from its half, if the stroke parity can be followed.
+* **Repetition**: each beat's onsets on a grid of 12 steps (with their pitches, or onsets
+  alone), and the share of grid steps with an onset that agree L beats later. If a 4/4's
+  patterns repeated at the bar more than at the half bar, S(4) − S(2) would be larger in 4/4
+  than in 2/4: printed as the chance that a 4/4 excerpt's difference exceeds a 2/4 one's
+  (0.5: no separation), and the same for 6/8 against 3/8 and 3/4 against 2/4.
 """
 import collections
 import json
@@ -44,10 +49,41 @@ def change_at(notes, beats, k):
     return 1 - before @ after / (nb * na) if nb > 0 and na > 0 else 0.0
 
 
+GRID = 12
+LAGS = (1, 2, 3, 4, 8)
+
+
+def repetition(notes, beats):
+    """S(L) for L in LAGS, from onsets alone and with pitches (see the module doc)."""
+    grid = np.zeros((len(beats) - 1, GRID), int)
+    for k in range(len(beats) - 1):
+        a, b = beats[k], beats[k + 1]
+        for on, _, p in notes:
+            if a - 0.02 <= on < b - 0.02:
+                grid[k, min(int(round((on - a) / (b - a) * GRID)), GRID - 1)] = p
+    out = {}
+    for lag in LAGS:
+        if len(grid) <= lag + 2:
+            return None
+        x, y = grid[:-lag], grid[lag:]
+        used = (x > 0) | (y > 0)
+        n = max(used.sum(), 1)
+        out[lag] = (((x > 0) == (y > 0)) & used).sum() / n, ((x == y) & used).sum() / n
+    return out
+
+
+def separation(a, b):
+    """The chance that a value of `a` exceeds one of `b` (ties count half)."""
+    if not a or not b:
+        return float("nan")
+    return float(np.mean([(x > y) + 0.5 * (x == y) for x in a for y in b]))
+
+
 def main():
     corpus = sys.argv[1]
     items = json.load(open(f"{corpus}/manifest.json"))["items"]
     harmony = collections.defaultdict(list)
+    repeats = collections.defaultdict(list)
     bows = collections.defaultdict(lambda: collections.defaultdict(lambda: [0, 0]))
     for it in items:
         if "etude" in it["source"] or it["split"] == "test":
@@ -64,6 +100,9 @@ def main():
             pos.append((c, bar))
             c = None if c is None else c + 1
         meter = it["meter"]
+        rep = repetition(notes, beats)
+        if rep is not None:
+            repeats[meter].append(rep)
         for b, (q, n) in zip(beats, pos):
             s = [st for st in strokes if abs(float(st[0]) - b) < 0.06]
             if q is None or not s:
@@ -97,6 +136,16 @@ def main():
         shares = [f"{k} {v[0] / v[1]:.2f} ({v[1]})" for k, v in sorted(bows[meter].items())
                   if v[1] >= 20]
         print(f"| {meter} | {', '.join(shares)} |")
+    print()
+    print("| repetition | 4/4 vs 2/4: S(4) − S(2) | 6/8 vs 3/8: S(2) − S(1) | 3/4 vs 2/4: S(3) − S(2) |")
+    print("|---|---|---|---|")
+    for kind, name in ((0, "onsets"), (1, "onsets and pitches")):
+        def diff(meter, hi, lo):
+            return [r[hi][kind] - r[lo][kind] for r in repeats[meter]]
+        cells = [separation(diff("4/4", 4, 2), diff("2/4", 4, 2)),
+                 separation(diff("6/8", 2, 1), diff("3/8", 2, 1)),
+                 separation(diff("3/4", 3, 2), diff("2/4", 3, 2))]
+        print(f"| {name} | " + " | ".join(f"{c:.2f}" for c in cells) + " |")
 
 
 if __name__ == "__main__":
