@@ -5,7 +5,7 @@ decoder cannot? Training and validation works only; the test split is never read
 
     python3 scripts/bar_cues.py CORPUS
 
-Two cues, both from the labels (an upper bound on what an analysis could recover):
+Three cues, all from the labels (an upper bound on what an analysis could recover):
 
 * **Harmony**: one minus the cosine between the pitch-class histograms (duration-weighted) of
   the two beats before and the two beats after a boundary. Printed per metre: the share of
@@ -146,6 +146,9 @@ def main():
                  separation(diff("6/8", 2, 1), diff("3/8", 2, 1)),
                  separation(diff("3/4", 3, 2), diff("2/4", 3, 2))]
         print(f"| {name} | " + " | ".join(f"{c:.2f}" for c in cells) + " |")
+    eight = [f"{m} {np.mean([r[8][1] for r in repeats[m]]):.2f}" for m in ("2/2", "2/4", "4/4")
+             if repeats[m]]
+    print(f"\nS(8) with pitches (exact repeats 8 beats later): {', '.join(eight)}")
 
 
 if __name__ == "__main__":
