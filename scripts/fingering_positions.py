@@ -16,6 +16,7 @@ finger; then its placement), `XX` where no violinist agrees, and the ten violini
 import collections
 import glob
 import os
+import re
 import sys
 
 
@@ -33,7 +34,7 @@ def read(folder):
             t = line.split()
             if len(t) < 12:
                 continue
-            plan.append(place(t[2].rstrip("HighNormalLow")))
+            plan.append(place(re.match(r"\d+", t[2]).group()))  # digits, then the placement
             labels.append([None if x == "-" else place(x) for x in t[-10:]])
         plans[piece], players[piece] = plan, labels
     return plans, players
