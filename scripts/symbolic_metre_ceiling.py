@@ -29,6 +29,7 @@ from sklearn.ensemble import HistGradientBoostingClassifier
 
 
 def fnv(s):
+    """FNV-1a (64-bit), as `corpus::schedule::work_hash`."""
     h = 0xCBF29CE484222325
     for b in s.encode():
         h ^= b
@@ -45,6 +46,7 @@ def ts_of(d):
 
 
 def meter(num, den):
+    """(beats per bar, beat length in quarters), as `TimeSignature::meter` and `beat_quarters`."""
     dotted = den >= 8 and num % 3 == 0
     unit = 4.0 / den
     if dotted:
@@ -66,11 +68,13 @@ for f in sorted(glob.glob(sys.argv[1] + "/*.json")):
 
 
 def short_q(d):
+    """The 10th percentile of the written note lengths in quarters (`corpus::perform`)."""
     ds = sorted(n["dur_q"] for n in d["notes"])
     return max(ds[len(ds) // 10], 1 / 16)
 
 
 def excerpt(d, rng):
+    """A run of bars of score `d` performed at a drawn tempo: notes in seconds, and the truth."""
     num, den = ts_of(d)
     bpb, beat_q = meter(num, den)
     bars = d["bars"]
@@ -101,6 +105,7 @@ def excerpt(d, rng):
 
 
 def pick_by_meter(pool, rng):
+    """A score drawn as `corpus::schedule::pick_by_meter` does: time signature by sqrt(count)."""
     g = collections.defaultdict(list)
     for d in pool:
         g[ts_of(d)].append(d)
@@ -114,6 +119,7 @@ LAGS = [0.5, 1, 1.5, 2, 3, 4, 6, 8, 12, 16]
 
 
 def features(x, use_pitch=True):
+    """Notation-free features of an excerpt's notes, and its modal inter-onset interval (s)."""
     on, du, pi = x["on"], x["du"], x["pi"]
     ioi = np.diff(on)
     ioi = ioi[ioi > 1e-3]
@@ -168,15 +174,15 @@ def features(x, use_pitch=True):
 
 
 def level_class(beat_s, mode):
-    return (
-        round(math.log2(beat_s / mode) * 2) / 2
-    )  # half-octave steps (x1.41): 1, 1.5~, 2, 3~, 4 ...
+    """The beat period as a multiple of the modal interval, in half-octave steps of log2."""
+    return round(math.log2(beat_s / mode) * 2) / 2
 
 
 COLLECTIONS = sorted({d["collection"] for d in scores["train"]})
 
 
 def build(pool, n, rng, use_pitch, named=False):
+    """`n` excerpts of `pool`: features, beats per bar, beat level, and (excerpt, mode)."""
     X, Y1, Y2, meta = [], [], [], []
     while len(X) < n:
         x = excerpt(pick_by_meter(pool, rng), rng)
@@ -195,23 +201,13 @@ def build(pool, n, rng, use_pitch, named=False):
     return np.array(X), np.array(Y1), np.array(Y2), meta
 
 
+REGULARISED = dict(max_leaf_nodes=15, min_samples_leaf=200, l2_regularization=1.0)
+# (name, pitch features, the collection named, tree settings)
 CONFIGS = [
-    (
-        "rhythm only, regularised",
-        False,
-        dict(max_leaf_nodes=15, min_samples_leaf=200, l2_regularization=1.0),
-    ),
-    (
-        "rhythm and pitch, regularised",
-        True,
-        dict(max_leaf_nodes=15, min_samples_leaf=200, l2_regularization=1.0),
-    ),
-    ("rhythm and pitch, scikit-learn's defaults", True, {}),
-    (
-        "rhythm and pitch and the collection's name, regularised",
-        "named",
-        dict(max_leaf_nodes=15, min_samples_leaf=200, l2_regularization=1.0),
-    ),
+    ("rhythm only, regularised", False, False, REGULARISED),
+    ("rhythm and pitch, regularised", True, False, REGULARISED),
+    ("rhythm and pitch, scikit-learn's defaults", True, False, {}),
+    ("rhythm and pitch and the collection's name, regularised", True, True, REGULARISED),
 ]
 
 
@@ -219,10 +215,9 @@ def share(flags):
     return round(float(np.mean(flags)), 2)
 
 
-for name, use_pitch, extra in CONFIGS:
-    named = use_pitch == "named"
-    Xt, bt, lt, _ = build(scores["train"], 8000, random.Random(82), bool(use_pitch), named)
-    Xv, bv, lv, mv = build(scores["val"], 2000, random.Random(83), bool(use_pitch), named)
+for name, use_pitch, named, extra in CONFIGS:
+    Xt, bt, lt, _ = build(scores["train"], 8000, random.Random(82), use_pitch, named)
+    Xv, bv, lv, mv = build(scores["val"], 2000, random.Random(83), use_pitch, named)
 
     def model():
         return HistGradientBoostingClassifier(
