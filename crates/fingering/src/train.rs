@@ -305,6 +305,20 @@ impl Agreement {
         self.any += o.any;
     }
 
+    /// Scores one planned place against the violinists' labels of its note (`given`
+    /// non-empty; an empty slice adds nothing).
+    pub fn add_note(&mut self, f: &Fingering, given: &[Label]) {
+        if given.is_empty() {
+            return;
+        }
+        let n = given.len() as f64;
+        let sp = given.iter().filter(|l| l.same_string_position(f)).count();
+        self.notes += 1;
+        self.string += given.iter().filter(|l| l.same_string(f)).count() as f64 / n;
+        self.string_position += sp as f64 / n;
+        self.any += usize::from(sp > 0);
+    }
+
     /// (string, string+position, any) as shares of the notes.
     pub fn shares(&self) -> (f64, f64, f64) {
         let n = self.notes.max(1) as f64;
@@ -320,16 +334,8 @@ impl Agreement {
 pub fn agreement(piece: &Piece, plan: &[Fingering]) -> Agreement {
     let mut a = Agreement::default();
     for (labels, f) in piece.labels.iter().zip(plan) {
-        let given: Vec<&Label> = labels.iter().flatten().collect();
-        if given.is_empty() {
-            continue;
-        }
-        let n = given.len() as f64;
-        let sp = given.iter().filter(|l| l.same_string_position(f)).count();
-        a.notes += 1;
-        a.string += given.iter().filter(|l| l.same_string(f)).count() as f64 / n;
-        a.string_position += sp as f64 / n;
-        a.any += usize::from(sp > 0);
+        let given: Vec<Label> = labels.iter().flatten().copied().collect();
+        a.add_note(f, &given);
     }
     a
 }
@@ -362,6 +368,34 @@ mod tests {
             fifth_neighbours(76, &e),
             vec![(69, Fingering::open(ViolinString::A, 1))]
         );
+    }
+
+    #[test]
+    fn a_note_is_scored_against_every_label_given() {
+        let l = |string, position, finger| Label {
+            string,
+            position,
+            finger,
+        };
+        // D5 (74) with the 3rd finger on the A string in 1st position.
+        let planned = Fingering::new(ViolinString::A, 1, 3);
+        let mut a = Agreement::default();
+        a.add_note(&planned, &[]);
+        assert_eq!(a, Agreement::default());
+        // Two of four on the A string, one of them in 1st position; one on the open D
+        // string (another string), one on the D string in 3rd.
+        a.add_note(&planned, &[l(3, 1, 3), l(3, 3, 1), l(2, 3, 4), l(2, 1, 0)]);
+        assert_eq!(a.notes, 1);
+        assert!((a.string - 0.5).abs() < 1e-12);
+        assert!((a.string_position - 0.25).abs() < 1e-12);
+        assert_eq!(a.any, 1);
+        // No label on the planned string and position: "any" stays.
+        a.add_note(&planned, &[l(3, 3, 1)]);
+        assert_eq!((a.notes, a.any), (2, 1));
+        let (string, string_position, any) = a.shares();
+        assert!((string - 0.75).abs() < 1e-12);
+        assert!((string_position - 0.125).abs() < 1e-12);
+        assert!((any - 0.5).abs() < 1e-12);
     }
 
     #[test]
