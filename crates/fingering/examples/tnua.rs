@@ -160,10 +160,10 @@ fn nested(train: &[&Piece], grid: &[[f64; 6]], spans: &[Option<SpanContext>], co
         }
         let planner = LearnedPlanner::new(&fit(&rest, best.1, counting, best.2));
         let (a, _) = evaluate(&planner, &[held]);
-        println!("{} {:?} {:?}", row(&held.name, &a), best.1, best.2);
+        println!("{} {:?} {:?}", a.markdown_row(&held.name), best.1, best.2);
         total.add(&a);
     }
-    println!("{}", row("nested LOPO", &total));
+    println!("{}", total.markdown_row("nested LOPO"));
 }
 
 fn lopo(
@@ -187,14 +187,6 @@ fn lopo(
         each.push(a);
     }
     (total, each)
-}
-
-fn row(name: &str, a: &Agreement) -> String {
-    let (s, sp, any) = a.shares();
-    format!(
-        "| {name} | {} | {:.3} | {:.3} | {:.3} |",
-        a.notes, s, sp, any
-    )
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -296,19 +288,19 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         println!("|---|---|---|---|---|");
         let learned = LearnedPlanner::default();
         let (all, each) = evaluate(&learned, &held);
-        println!("{}", row("learned (shipped)", &all));
+        println!("{}", all.markdown_row("learned (shipped)"));
         if !counting.extra.is_empty() {
             let h = fixed.ok_or("--reserved with --ytvf-train needs --fixed")?;
             let planner = LearnedPlanner::new(&fit(&train, h, &counting, spans[0]));
             let name = format!("learned, + YTVF ×{ytvf_train} in training");
-            println!("{}", row(&name, &evaluate(&planner, &held).0));
+            println!("{}", evaluate(&planner, &held).0.markdown_row(&name));
         }
         for (name, p) in baselines {
-            println!("{}", row(name, &evaluate(p, &held).0));
+            println!("{}", evaluate(p, &held).0.markdown_row(name));
         }
         println!("\nper piece, learned:");
         for (p, a) in held.iter().zip(&each) {
-            println!("{}", row(&p.name, a));
+            println!("{}", a.markdown_row(&p.name));
         }
         return Ok(());
     }
@@ -392,13 +384,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("| planner | notes | string | string+position | ≥ 1 violinist |");
     println!("|---|---|---|---|---|");
     let (all, each) = lopo(&train, h, &counting, span);
-    println!("{}", row("learned (LOPO)", &all));
+    println!("{}", all.markdown_row("learned (LOPO)"));
     for (name, p) in baselines {
-        println!("{}", row(name, &evaluate(p, &train).0));
+        println!("{}", evaluate(p, &train).0.markdown_row(name));
     }
     println!("\nper held-out piece, learned:");
     for (p, a) in train.iter().zip(&each) {
-        println!("{}", row(&p.name, a));
+        println!("{}", a.markdown_row(&p.name));
     }
     if let (Some(ytvf), 0) = (&ytvf, ytvf_train) {
         let notes: usize = ytvf.iter().map(|p| p.midi.len()).sum();
@@ -411,9 +403,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         println!("|---|---|---|---|---|");
         let ytvf: Vec<&Piece> = ytvf.iter().collect();
         let learned = LearnedPlanner::new(&fit(&train, h, &counting, span));
-        println!("{}", row("learned", &evaluate(&learned, &ytvf).0));
+        println!("{}", evaluate(&learned, &ytvf).0.markdown_row("learned"));
         for (name, p) in baselines {
-            println!("{}", row(name, &evaluate(p, &ytvf).0));
+            println!("{}", evaluate(p, &ytvf).0.markdown_row(name));
         }
     }
     if let Some(path) = write {

@@ -25,15 +25,6 @@ use fingering::train::{
 };
 use fingering::{Fingering, FingeringPlanner, LearnedParams, LearnedPlanner};
 
-/// One table row: the chooser's name, notes and the three shares.
-fn row(name: &str, a: &Agreement) -> String {
-    let (string, string_position, any) = a.shares();
-    format!(
-        "| {name} | {} | {string:.3} | {string_position:.3} | {any:.3} |",
-        a.notes
-    )
-}
-
 /// The place most of `others` chose for `midi` (ties: the first in label order).
 fn modal(midi: u8, others: &[Label]) -> Option<Fingering> {
     let mut counts: BTreeMap<(u8, u8, bool), (usize, usize)> = BTreeMap::new();
@@ -121,12 +112,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     );
     println!("| chooser | notes | string | string+position | ≥ 1 of the others |");
     println!("|---|---|---|---|---|");
-    println!("{}", row("the violinist (mean over violinists)", &human));
     println!(
         "{}",
-        row("learned planner (LOPO, shipped settings)", &planner)
+        human.markdown_row("the violinist (mean over violinists)")
     );
-    println!("{}", row("the others' most common place (oracle)", &oracle));
+    println!(
+        "{}",
+        planner.markdown_row("learned planner (LOPO, shipped settings)")
+    );
+    println!(
+        "{}",
+        oracle.markdown_row("the others' most common place (oracle)")
+    );
     println!("\nper violinist (violinist / planner on the same notes):");
     for (v, (h, p)) in &per_violinist {
         let (hs, hp, ha) = h.shares();

@@ -319,6 +319,12 @@ impl Agreement {
         self.any += usize::from(sp > 0);
     }
 
+    /// A Markdown table row: `| name | notes | string | string+position | any |`.
+    pub fn markdown_row(&self, name: &str) -> String {
+        let (s, sp, any) = self.shares();
+        format!("| {name} | {} | {s:.3} | {sp:.3} | {any:.3} |", self.notes)
+    }
+
     /// (string, string+position, any) as shares of the notes.
     pub fn shares(&self) -> (f64, f64, f64) {
         let n = self.notes.max(1) as f64;
@@ -392,6 +398,7 @@ mod tests {
         // No label on the planned string and position: "any" stays.
         a.add_note(&planned, &[l(3, 3, 1)]);
         assert_eq!((a.notes, a.any), (2, 1));
+        assert_eq!(a.markdown_row("p"), "| p | 2 | 0.750 | 0.125 | 0.500 |");
         let (string, string_position, any) = a.shares();
         assert!((string - 0.75).abs() < 1e-12);
         assert!((string_position - 0.125).abs() < 1e-12);
