@@ -33,25 +33,12 @@ pub struct SulSpan {
     pub to_s: f64,
 }
 
-/// Two notes closer than this (seconds) start together: a chord.
-const CHORD_S: f64 = 0.03;
-/// A note that starts while another sounds is a double stop with it when they overlap by
-/// at least this long (seconds) and half the shorter note.
-const DOUBLE_STOP_OVERLAP_S: f64 = 0.1;
-
-fn sounds_with(line: &Note, n: &Note) -> bool {
-    if (n.onset_s - line.onset_s).abs() < CHORD_S {
-        return true;
-    }
-    let overlap = line.offset_s.min(n.offset_s) - line.onset_s.max(n.onset_s);
-    let shorter = line.duration_s().min(n.duration_s());
-    overlap >= DOUBLE_STOP_OVERLAP_S && overlap >= 0.5 * shorter
-}
-
 /// One place per note (`None` for a note no violin place plays): the notes of the melodic
 /// line (each note that does not sound together with the line's current note) go through
-/// the planner with the style; the other notes of a double stop or chord take the
-/// neighbouring strings ([`fingering::partner_place`]).
+/// the planner with the style, each line note of a double stop in a place from which its
+/// nearest partner can be stopped on the neighbouring string wherever one allows it
+/// ([`fingering::FingeringStyle::double_stop`]); the other notes of a double stop or chord
+/// take the neighbouring strings ([`fingering::partner_place`]).
 pub(crate) fn plan_notes(
     kind: PlannerKind,
     style: &FingeringStyle,
@@ -66,12 +53,27 @@ pub(crate) fn plan_notes(
             continue;
         }
         match line.last() {
-            Some(&l) if sounds_with(&notes[l], n) => partner_of[i] = Some(l),
+            Some(&l) if notes[l].sounds_with(n) => partner_of[i] = Some(l),
             _ => line.push(i),
         }
     }
     let pitches: Vec<u8> = line.iter().map(|&i| notes[i].midi).collect();
     let mut style = style.clone();
+    // Each line note with partners keeps the nearest in pitch within reach (the one on the
+    // neighbouring string).
+    let mut nearest: Vec<Option<u8>> = vec![None; notes.len()];
+    for (n, partner) in notes.iter().zip(&partner_of) {
+        let Some(l) = *partner else { continue };
+        let line_midi = notes[l].midi;
+        if nearest[l].is_none_or(|m| n.midi.abs_diff(line_midi) < m.abs_diff(line_midi)) {
+            nearest[l] = Some(n.midi);
+        }
+    }
+    for (k, &l) in line.iter().enumerate() {
+        if let Some(m) = nearest[l] {
+            style = style.double_stop(k, m);
+        }
+    }
     for span in sul {
         let from = line.partition_point(|&i| notes[i].onset_s < span.from_s);
         let to = line.partition_point(|&i| notes[i].onset_s < span.to_s);
@@ -130,6 +132,27 @@ mod tests {
             &legato,
         );
         assert!(plan.iter().all(|f| f.is_some()));
+    }
+
+    #[test]
+    fn a_double_stop_moves_its_line_note_to_where_the_partner_is_in_reach() {
+        // D5, then E5 over G4 (a sixth), then F#5 over A4: alone, E5 would be the open E,
+        // which leaves G4 no string next to it.
+        let notes = [
+            Note::new(0.0, 0.5, 74),
+            Note::new(0.5, 1.0, 76),
+            Note::new(0.5, 1.0, 67),
+            Note::new(1.0, 1.5, 78),
+            Note::new(1.0, 1.5, 69),
+        ];
+        for kind in [PlannerKind::Learned, PlannerKind::Optimal] {
+            let plan = plan_notes(kind, &FingeringStyle::default(), &[], &notes);
+            for (top, low) in [(1, 2), (3, 4)] {
+                let (top, low) = (plan[top].unwrap(), plan[low].unwrap());
+                assert_eq!(top.string.number(), low.string.number() + 1, "{kind:?}");
+                assert!(low.is_open() || low.position.abs_diff(top.position) <= 1);
+            }
+        }
     }
 
     #[test]

@@ -8,7 +8,7 @@
 //! top note, as are the third and fourth notes of triple and quadruple chords; the counts go
 //! to the manifest.
 
-use fingering::{partner_place, Fingering};
+use fingering::{double_stop_place, Fingering};
 use performance::{Note, TimedNote, Timeline};
 
 use crate::score::Score;
@@ -41,9 +41,9 @@ impl DoubleStops {
     }
 }
 
-/// Where a lower note `midi` of a double stop is played under `top`: its
-/// [`partner_place`], when that is on the string next below and in reach of the hand (an
-/// open string, or within one position of the melody's).
+/// Where a lower note `midi` of a double stop is played under `top`: on the string next
+/// below and in reach of the hand (an open string, or within one position of the melody's;
+/// [`double_stop_place`]).
 ///
 /// ```
 /// use corpus::double_stop::second_place;
@@ -55,10 +55,10 @@ impl DoubleStops {
 /// assert_eq!(second_place(Fingering::new(ViolinString::G, 1, 1), 55), None);
 /// ```
 pub fn second_place(top: Fingering, midi: u8) -> Option<Fingering> {
-    partner_place(&top, midi).filter(|f| {
-        f.string.number() + 1 == top.string.number()
-            && (f.is_open() || f.position.abs_diff(top.position) <= 1)
-    })
+    if midi > top.midi() {
+        return None;
+    }
+    double_stop_place(&top, midi)
 }
 
 /// The double stops of `score` as performed in `timeline` (one timed note per score note,

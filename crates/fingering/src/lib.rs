@@ -14,7 +14,8 @@
 //! * [`LearnedPlanner`] — Viterbi over costs learned from ten violinists' fingerings (the
 //!   TNUA dataset; [`LearnedParams`], trained by the `train` feature's `train` module),
 //!   with where the passage is going as context ([`span`]).
-//! * [`FingeringStyle`] — knobs for open strings, low or high positions and *sul* passages.
+//! * [`FingeringStyle`] — knobs for open strings, low or high positions and *sul* passages,
+//!   and the double stops a line note must leave in reach ([`double_stop_place`]).
 //!
 //! A [`Fingering`] also tells where the left hand sits along the neck
 //! ([`Fingering::hand_offset_semitones`]) and which pitch it plays ([`Fingering::midi`]).
@@ -64,13 +65,13 @@ pub use learned::{context, learned_places, LearnedPlanner, LEARNED_MAX_POSITION}
 pub use learned_params::CONTEXTS;
 pub use learned_params::{LearnedParams, LEARNED_PARAMS_TSV};
 pub use optimal::OptimalPlanner;
-pub use partner::partner_place;
+pub use partner::{double_stop_place, partner_place};
 pub use placement::Placement;
 pub use places::places_for;
 pub use planner::FingeringPlanner;
 pub use span::SpanContext;
 pub use string::ViolinString;
-pub use style::{FingeringStyle, SulPassage};
+pub use style::{DoubleStopNote, FingeringStyle, SulPassage};
 pub use table::{note_name_to_midi, FingeringTable, ORIGINAL_TABLE_TSV};
 
 /// The README's example, compiled and run as a doctest.

@@ -33,7 +33,7 @@ pub(crate) fn push_places_for(midi: u8, out: &mut Vec<Fingering>) {
 
 /// The finger (and placement) that stops `string` `above` semitones above the nut in
 /// `position`, if that position reaches it.
-fn stop_in_position(string: ViolinString, position: u8, above: u8) -> Option<Fingering> {
+pub(crate) fn stop_in_position(string: ViolinString, position: u8, above: u8) -> Option<Fingering> {
     let base = i32::from(position_offset(position));
     let above = i32::from(above);
     for finger in 1..=4u8 {

@@ -1,11 +1,13 @@
 //! Style knobs shared by the optimal and learned planners: open strings, low or high
-//! positions, and a fixed string for a passage (*sul G*).
+//! positions, a fixed string for a passage (*sul G*), and the double stops the music asks
+//! for.
 
 use std::ops::Range;
 
 use serde::{Deserialize, Serialize};
 
 use crate::fingering::Fingering;
+use crate::partner::double_stop_place;
 use crate::string::ViolinString;
 
 /// A passage (notes `notes`, indices into the planner's input) played on one string
@@ -18,6 +20,17 @@ pub struct SulPassage {
     pub notes: Range<usize>,
 }
 
+/// A note of the planned line that sounds with another note (a double stop): its place
+/// must let the hand stop `partner_midi` on the neighbouring string
+/// ([`crate::double_stop_place`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct DoubleStopNote {
+    /// The note, by index in the planner's input.
+    pub note: usize,
+    /// The pitch that sounds with it.
+    pub partner_midi: u8,
+}
+
 /// How a player likes to finger, on top of a planner's own costs. Each knob adds a cost
 /// (in the planner's units: the learned planner's are nats, about "how many times less
 /// likely", the optimal planner's are its [`crate::CostWeights`] units) to a place:
@@ -26,7 +39,10 @@ pub struct SulPassage {
 ///   them (an open G3 stays: nothing else plays it);
 /// * `position`: added per position number above the first for every note; > 0 keeps the
 ///   hand low, < 0 sends it up the neck (a cheap way to get a darker, one-string sound);
-/// * `sul`: passages kept on one string ([`SulPassage`]).
+/// * `sul`: passages kept on one string ([`SulPassage`]);
+/// * `double_stops`: notes that sound with another ([`DoubleStopNote`]): a place from which
+///   the other note is out of reach is refused whenever the note has a place from which it
+///   is in reach (within the *sul* string, if any).
 ///
 /// The default changes nothing. Presets: [`FingeringStyle::avoid_open_strings`],
 /// [`FingeringStyle::prefer_open_strings`], [`FingeringStyle::low_positions`],
@@ -49,6 +65,8 @@ pub struct FingeringStyle {
     pub position: f32,
     /// Passages kept on one string.
     pub sul: Vec<SulPassage>,
+    /// Double stops, sorted by note ([`FingeringStyle::double_stop`] keeps them so).
+    pub double_stops: Vec<DoubleStopNote>,
 }
 
 impl FingeringStyle {
@@ -90,9 +108,46 @@ impl FingeringStyle {
         self
     }
 
+    /// The same style with note `note` sounding with `partner_midi` (a double stop).
+    ///
+    /// ```
+    /// use fingering::{FingeringPlanner, FingeringStyle, LearnedPlanner, ViolinString};
+    /// // D5 then E5 with G4 under it: E5 leaves the open E for the A string.
+    /// let style = FingeringStyle::default().double_stop(1, 67);
+    /// let plan = LearnedPlanner::default().with_style(style).plan(&[74, 76])?;
+    /// assert_eq!(plan[1].string, ViolinString::A);
+    /// # Ok::<(), fingering::FingeringError>(())
+    /// ```
+    pub fn double_stop(mut self, note: usize, partner_midi: u8) -> FingeringStyle {
+        let at = self.double_stops.partition_point(|d| d.note <= note);
+        self.double_stops
+            .insert(at, DoubleStopNote { note, partner_midi });
+        self
+    }
+
     /// `true` when the style changes nothing.
     pub fn is_neutral(&self) -> bool {
-        self.open_string == 0.0 && self.position == 0.0 && self.sul.is_empty()
+        self.open_string == 0.0
+            && self.position == 0.0
+            && self.sul.is_empty()
+            && self.double_stops.is_empty()
+    }
+
+    /// The pitch that sounds with note `index`, if it is a double stop (the last one listed
+    /// for it).
+    pub fn partner_midi(&self, index: usize) -> Option<u8> {
+        let end = self.double_stops.partition_point(|d| d.note <= index);
+        end.checked_sub(1)
+            .and_then(|k| self.double_stops.get(k))
+            .filter(|d| d.note == index)
+            .map(|d| d.partner_midi)
+    }
+
+    /// Whether the *sul* passage over note `index`, if any, allows `place`.
+    fn sul_allows(&self, index: usize, place: &Fingering, places: &[Fingering]) -> bool {
+        self.sul_string(index).is_none_or(|string| {
+            place.string == string || !places.iter().any(|p| p.string == string)
+        })
     }
 
     /// The string note `index` must stay on, if a passage covers it (the last passage
@@ -106,10 +161,20 @@ impl FingeringStyle {
     }
 
     /// The style's cost of `place` for note `index`, given the note's other `places`
-    /// (infinite for a place off the passage's string when the string can play the note).
+    /// (infinite for a place off the passage's string when the string can play the note,
+    /// and for a place that leaves a double stop's other note out of reach when another
+    /// place would not).
     pub fn place_cost(&self, index: usize, place: &Fingering, places: &[Fingering]) -> f64 {
-        if let Some(string) = self.sul_string(index) {
-            if place.string != string && places.iter().any(|p| p.string == string) {
+        if !self.sul_allows(index, place, places) {
+            return f64::INFINITY;
+        }
+        if let Some(partner) = self.partner_midi(index) {
+            let reach = |p: &Fingering| double_stop_place(p, partner).is_some();
+            if !reach(place)
+                && places
+                    .iter()
+                    .any(|p| reach(p) && self.sul_allows(index, p, places))
+            {
                 return f64::INFINITY;
             }
         }
@@ -142,7 +207,7 @@ mod tests {
         let style = FingeringStyle {
             open_string: 1.5,
             position: 0.5,
-            sul: Vec::new(),
+            ..FingeringStyle::default()
         };
         let open = Fingering::open(ViolinString::A, 3);
         let stopped = Fingering::new(ViolinString::D, 3, 4);
@@ -152,5 +217,30 @@ mod tests {
         let g = Fingering::open(ViolinString::G, 1);
         assert_eq!(style.place_cost(0, &g, &[g]), 0.0);
         assert!(FingeringStyle::default().is_neutral());
+    }
+
+    #[test]
+    fn double_stops_refuse_places_that_leave_the_partner_out_of_reach() {
+        let style = FingeringStyle::default()
+            .double_stop(3, 60)
+            .double_stop(1, 67);
+        assert_eq!(style.partner_midi(1), Some(67));
+        assert_eq!(style.partner_midi(3), Some(60));
+        assert_eq!(style.partner_midi(2), None);
+        assert!(!style.is_neutral());
+        let open_e = Fingering::open(ViolinString::E, 1);
+        let e5_on_a = Fingering::new(ViolinString::A, 3, 2);
+        let places = [e5_on_a, open_e];
+        assert!(style.place_cost(1, &open_e, &places).is_infinite());
+        assert_eq!(style.place_cost(1, &e5_on_a, &places), 0.0);
+        // Not a double stop: both allowed.
+        assert_eq!(style.place_cost(0, &open_e, &places), 0.0);
+        // When no place reaches the partner, none is refused.
+        let only_e = [open_e];
+        assert_eq!(style.place_cost(1, &open_e, &only_e), 0.0);
+        // Sul E keeps the E string even though the partner is then out of reach.
+        let sul_e = style.sul(ViolinString::E, 0..4);
+        assert_eq!(sul_e.place_cost(1, &open_e, &places), 0.0);
+        assert!(sul_e.place_cost(1, &e5_on_a, &places).is_infinite());
     }
 }

@@ -3,10 +3,9 @@
 
 use crate::meter::Meter;
 use crate::midi_score::{MidiNote, MidiScore};
-use crate::note::Note;
+use crate::note::{Note, CHORD_S};
 use crate::timeline::{arousal_proxy, TimedNote, Timeline};
 
-const CHORD_S: f64 = 0.03;
 /// [`MidiBowing::notated_below_share`]'s default.
 const NOTATED_BELOW_SHARE: f64 = 0.2;
 /// The most beats a grid has (an hour at 1000 bpm in 32nd-note beats is far below).

@@ -34,6 +34,12 @@ pub struct Note {
     pub velocity: Option<u8>,
 }
 
+/// Notes whose onsets are closer than this (seconds) start together: a chord.
+pub const CHORD_S: f64 = 0.03;
+/// A note that starts while another sounds is a double stop with it when they overlap by
+/// at least this long (seconds) and by half the shorter note ([`Note::sounds_with`]).
+pub const DOUBLE_STOP_OVERLAP_S: f64 = 0.1;
+
 impl Note {
     /// A note without fingering.
     pub fn new(onset_s: f64, offset_s: f64, midi: u8) -> Note {
@@ -49,6 +55,27 @@ impl Note {
     /// Length in seconds.
     pub fn duration_s(&self) -> f64 {
         self.offset_s - self.onset_s
+    }
+
+    /// Whether `other` is played together with this note, as a double stop or chord: it
+    /// starts within [`CHORD_S`] of it, or the two overlap by at least
+    /// [`DOUBLE_STOP_OVERLAP_S`] and by half the shorter note (a legato overlap of a few
+    /// milliseconds is not a double stop).
+    ///
+    /// ```
+    /// use performance::Note;
+    /// let a4 = Note::new(0.0, 1.0, 69);
+    /// assert!(a4.sounds_with(&Note::new(0.01, 1.0, 62))); // a chord
+    /// assert!(a4.sounds_with(&Note::new(0.5, 1.5, 74))); // held under the next note
+    /// assert!(!a4.sounds_with(&Note::new(0.98, 2.0, 71))); // legato
+    /// ```
+    pub fn sounds_with(&self, other: &Note) -> bool {
+        if (other.onset_s - self.onset_s).abs() < CHORD_S {
+            return true;
+        }
+        let overlap = self.offset_s.min(other.offset_s) - self.onset_s.max(other.onset_s);
+        let shorter = self.duration_s().min(other.duration_s());
+        overlap >= DOUBLE_STOP_OVERLAP_S && overlap >= 0.5 * shorter
     }
 }
 
