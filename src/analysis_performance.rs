@@ -31,7 +31,8 @@ fn clip_strokes(
 
 impl Pipeline {
     /// The [`Performance`] an analysis describes (the fingering it carries is kept; notes
-    /// without a place are re-planned).
+    /// without a place are re-planned; the other notes of double stops and chords become
+    /// its second voice, [`Performance::double_stops`]).
     pub fn performance(&self, analysis: &Analysis) -> Result<Performance> {
         if analysis.duration_s < MIN_DURATION_S {
             return Err(Error::TooShort {
@@ -63,9 +64,17 @@ impl Pipeline {
                 }
             })
             .collect();
+        // The other notes of double stops and chords (a MIDI analysis keeps them) are the
+        // performance's second voice; the line stays monophonic.
+        let partner_of = performance::double_stop_partners(&notes, |_| true);
+        let (double_stops, notes): (Vec<_>, Vec<_>) = notes
+            .into_iter()
+            .zip(partner_of)
+            .partition(|(_, partner)| partner.is_some());
         let inside = |t: &f64| *t >= 0.0 && *t <= analysis.duration_s;
         Ok(Performance::builder(analysis.duration_s)
-            .notes(notes)
+            .notes(notes.into_iter().map(|(n, _)| n).collect())
+            .double_stops(double_stops.into_iter().map(|(n, _)| n).collect())
             .bow_changes(
                 analysis
                     .bow_changes_s

@@ -46,17 +46,10 @@ pub(crate) fn plan_notes(
     notes: &[Note],
 ) -> Vec<Option<Fingering>> {
     let table = FingeringTable::physical();
-    let mut line: Vec<usize> = Vec::new();
-    let mut partner_of: Vec<Option<usize>> = vec![None; notes.len()];
-    for (i, n) in notes.iter().enumerate() {
-        if table.places(n.midi).is_empty() {
-            continue;
-        }
-        match line.last() {
-            Some(&l) if notes[l].sounds_with(n) => partner_of[i] = Some(l),
-            _ => line.push(i),
-        }
-    }
+    let partner_of = performance::double_stop_partners(notes, |n| !table.places(n.midi).is_empty());
+    let line: Vec<usize> = (0..notes.len())
+        .filter(|&i| partner_of[i].is_none() && !table.places(notes[i].midi).is_empty())
+        .collect();
     let pitches: Vec<u8> = line.iter().map(|&i| notes[i].midi).collect();
     let mut style = style.clone();
     // Each line note with partners keeps the nearest in pitch within reach (the one on the

@@ -4,7 +4,7 @@ use std::path::Path;
 
 use performance::midi::{score_from_midi_file, timeline_from_score, MidiScore};
 use performance::{
-    arousal_proxy_of_spans, bow_directions, Analysis, ArousalCurve, F0Track, Note,
+    arousal_proxy_of_spans, bow_directions, Analysis, ArousalCurve, F0Track, Note, Performance,
     ANALYSIS_SCHEMA_VERSION,
 };
 
@@ -42,6 +42,49 @@ fn f0_of(notes: &[Note], duration_s: f64) -> F0Track {
 }
 
 impl Pipeline {
+    /// The [`Performance`] of a MIDI file: its melodic line with bowing by the rules of
+    /// `performance::midi`, and the chords' other notes as its second voice
+    /// ([`Performance::double_stops`]). Every note is fingered together, as in
+    /// [`Pipeline::analyze_midi_file`], so the line's places leave its double stops in reach.
+    pub fn performance_from_midi(&self, path: impl AsRef<Path>) -> Result<Performance> {
+        self.refuse_beat_hints_for_midi()?;
+        let score = score_from_midi_file(path, &self.midi_options())?;
+        let mut timeline = timeline_from_score(&score);
+        let all: Vec<Note> = score
+            .notes
+            .iter()
+            .map(|n| Note::new(n.onset_s, n.offset_s, n.midi))
+            .collect();
+        let mut places = self.plan(&all);
+        // The line keeps each chord's first note (the highest) in score order; the notes it
+        // drops are the second voice.
+        let mut in_line = vec![false; all.len()];
+        let mut next = 0;
+        for timed in &mut timeline.notes {
+            let n = &timed.note;
+            let found = all[next..]
+                .iter()
+                .position(|a| a.onset_s == n.onset_s && a.midi == n.midi);
+            if let Some(k) = found {
+                in_line[next + k] = true;
+                timed.note.fingering = places[next + k].take();
+                next += k + 1;
+            }
+        }
+        let double_stops: Vec<Note> = all
+            .iter()
+            .zip(places)
+            .zip(&in_line)
+            .filter(|(_, &line)| !line)
+            .map(|((n, fingering), _)| Note { fingering, ..*n })
+            .collect();
+        let line = timeline.to_performance()?;
+        Ok(Performance::new(performance::PerformanceParts {
+            double_stops,
+            ..line.into()
+        })?)
+    }
+
     /// The analysis of a MIDI file (see `performance::midi` for the rules): every note as
     /// the file has it (onset, offset, pitch, velocity; overlapping notes kept as double
     /// stops) with string, position and finger; beats, downbeats and meter from the tempo

@@ -7,7 +7,7 @@ use std::time::Instant;
 use dsp_mel::{resample, Audio, DEFAULT_ANALYSIS_RATE_HZ};
 use fingering::{Fingering, FingeringStyle};
 use motion_synth::{synthesize, SynthConfig};
-use performance::{Analysis, ArousalCurve, Note, Performance};
+use performance::{Analysis, ArousalCurve, Note};
 use pitch_track::{
     segment_notes, split_notes_at, start_notes_at, NoteConfig, PitchConfig, PitchTracker,
 };
@@ -15,7 +15,7 @@ use skeleton::Motion;
 
 use crate::beats::{self, BeatHints, BeatMethod};
 use crate::chunking::Chunking;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::fingering_plan::{plan_notes, PlannerKind, SulSpan};
 use crate::models::LoadedModels;
 use crate::networks::{self, BowingFile, BowingNetwork};
@@ -127,20 +127,20 @@ impl Pipeline {
         self.max_duration_s.map(f64::from)
     }
 
-    /// The MIDI reading options.
-    #[cfg(feature = "midi")]
     /// Refuses beat hints for a MIDI file, whose tempo map and time signatures are used.
     #[cfg(feature = "midi")]
     pub(crate) fn refuse_beat_hints_for_midi(&self) -> Result<()> {
         if self.beat_hints.is_empty() {
             return Ok(());
         }
-        Err(Error::BeatHint(
+        Err(crate::error::Error::BeatHint(
             "time-signature and tempo hints apply to audio; a MIDI file's own tempo map and time signatures are used"
                 .into(),
         ))
     }
 
+    /// The MIDI reading options.
+    #[cfg(feature = "midi")]
     pub(crate) fn midi_options(&self) -> performance::midi::MidiOptions {
         let defaults = performance::midi::MidiOptions::default();
         performance::midi::MidiOptions {
@@ -268,7 +268,7 @@ impl Pipeline {
             #[cfg(feature = "gru")]
             Method::Gru => {
                 if audio.duration_s() < MIN_DURATION_S {
-                    return Err(Error::TooShort {
+                    return Err(crate::error::Error::TooShort {
                         source_name: "the recording".into(),
                         duration_s: audio.duration_s(),
                         min_s: MIN_DURATION_S,
@@ -292,18 +292,5 @@ impl Pipeline {
     pub fn generate_midi(&self, path: impl AsRef<std::path::Path>) -> Result<Motion> {
         let perf = self.performance_from_midi(path)?;
         Ok(synthesize(&perf, &self.synth)?)
-    }
-
-    /// The [`Performance`] of a MIDI file (its melodic line; see `performance::midi`).
-    #[cfg(feature = "midi")]
-    pub fn performance_from_midi(&self, path: impl AsRef<std::path::Path>) -> Result<Performance> {
-        self.refuse_beat_hints_for_midi()?;
-        let mut timeline =
-            performance::midi::timeline_from_midi_file_with(path, &self.midi_options())?;
-        let notes: Vec<Note> = timeline.notes.iter().map(|n| n.note).collect();
-        for (n, f) in timeline.notes.iter_mut().zip(self.plan(&notes)) {
-            n.note.fingering = f;
-        }
-        Ok(timeline.to_performance()?)
     }
 }

@@ -192,3 +192,46 @@ fn bad_midi_files_are_refused_with_one_line() {
     let v: Value = serde_json::from_slice(&std::fs::read(&out).unwrap()).unwrap();
     assert_eq!(v["notes"][0]["midi"], 55);
 }
+
+/// The sixth E5 over G4 at 1.0–1.5 s after D5, between plain notes (4/4, 120 bpm).
+fn sixth_file() -> Vec<u8> {
+    let mut ev = vec![(0, vec![0xff, 0x51, 0x03, 0x07, 0xa1, 0x20])];
+    for (i, k) in [71u8, 74, 76, 78].into_iter().enumerate() {
+        ev.push((0, vec![0x90, k, 80]));
+        if i == 2 {
+            ev.push((0, vec![0x90, 67, 80]));
+        }
+        ev.push((450, vec![0x80, k, 0]));
+        if i == 2 {
+            ev.push((0, vec![0x80, 67, 0]));
+        }
+        ev.push((30, vec![0xff, 0x01, 0]));
+    }
+    smf(480, &ev)
+}
+
+#[test]
+fn a_double_stop_is_fingered_in_reach_and_bowed_across_both_strings() {
+    use violin_skeleton::motion_synth::{synthesize_detailed, SynthConfig};
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("sixth.mid");
+    std::fs::write(&path, sixth_file()).unwrap();
+    let perf = violin_skeleton::Pipeline::default()
+        .performance_from_midi(&path)
+        .unwrap();
+    // The line keeps E5; G4 is the second voice, on the string next below, in reach.
+    assert_eq!(perf.notes().len(), 4);
+    let [g4] = perf.double_stops() else {
+        panic!("{:?}", perf.double_stops())
+    };
+    let (e5, g4_place) = (perf.notes()[2].fingering.unwrap(), g4.fingering.unwrap());
+    assert_eq!((g4.midi, g4.onset_s), (67, 1.0));
+    assert_eq!(e5.string.number(), g4_place.string.number() + 1);
+    assert!(g4_place.is_open() || e5.position.abs_diff(g4_place.position) <= 1);
+    // The bow lies across both strings while they sound, on E5's alone before and after.
+    let synth = synthesize_detailed(&perf, &SynthConfig::default()).unwrap();
+    let across = f64::from(e5.string.number() + g4_place.string.number()) / 2.0 - 1.0;
+    assert_eq!(synth.string_index[38], across); // 1.27 s
+    let after = f64::from(perf.notes()[3].fingering.unwrap().string.number() - 1);
+    assert_eq!(synth.string_index[55], after); // 1.83 s
+}

@@ -6,12 +6,16 @@
 //! second half of the previous note if that is shorter — so the hand has arrived when the
 //! note starts. Before the first note the first note's values are held, after the last
 //! note the last ones.
+//!
+//! While a double stop's other note ([`performance::Performance::double_stops`]) sounds
+//! with the line's note, the bow lies across both strings (the mean of their indices); the
+//! hand stays where the line's note has it.
 
-use fingering::{Fingering, FingeringPlanner, OptimalPlanner};
+use fingering::{partner_place, Fingering, FingeringPlanner, OptimalPlanner};
 
 use crate::error::Result;
 use crate::geometry::smoothstep;
-use performance::Note;
+use performance::{Note, CHORD_S};
 
 /// Glide lengths of the left hand and of string crossings.
 #[derive(Debug, Clone, PartialEq)]
@@ -97,20 +101,86 @@ pub fn glide_track(events: &[(f64, f64)], glide_s: f64, fps: f64, out: &mut [f64
     }
 }
 
-/// Per-frame string index (0 = G … 3 = E) and hand place (semitones from the nut).
+/// The line note (index into `notes`, sorted by onset) a double-stop note `d` is played
+/// with: the last one starting by `d`'s onset, if they sound together.
+fn line_note_of(notes: &[Note], d: &Note) -> Option<usize> {
+    let l = notes
+        .partition_point(|n| n.onset_s <= d.onset_s + CHORD_S)
+        .checked_sub(1)?;
+    notes.get(l).filter(|n| n.sounds_with(d)).map(|_| l)
+}
+
+/// The string index (0 = G … 3 = E) of each double-stop note: its own fingering's, else
+/// the neighbouring string of its line note's place ([`partner_place`]), else the line's.
+pub(crate) fn double_stop_strings(
+    notes: &[Note],
+    fingerings: &[Fingering],
+    double_stops: &[Note],
+) -> Vec<f64> {
+    let index = |f: &Fingering| f64::from(f.string.number() - 1);
+    double_stops
+        .iter()
+        .map(|d| {
+            let line = line_note_of(notes, d).and_then(|l| fingerings.get(l));
+            d.fingering
+                .or_else(|| line.and_then(|f| partner_place(f, d.midi)))
+                .or(line.copied())
+                .map_or(0.0, |f| index(&f))
+        })
+        .collect()
+}
+
+/// The bowed string's events (time, string index 0 = G … 3 = E) in time order: each line
+/// note's `line_string`, and while a double-stop note sounds with its line note, the mean
+/// of that and its `double_stop_strings` entry, so the bow lies across both strings.
+pub(crate) fn bowed_string_events(
+    notes: &[Note],
+    double_stops: &[Note],
+    line_string: impl Fn(usize) -> f64,
+    double_stop_strings: &[f64],
+) -> Vec<(f64, f64)> {
+    let mut events: Vec<(f64, f64)> = Vec::with_capacity(notes.len() + 2 * double_stops.len());
+    events.extend(
+        notes
+            .iter()
+            .enumerate()
+            .map(|(i, n)| (n.onset_s, line_string(i))),
+    );
+    for (d, &string) in double_stops.iter().zip(double_stop_strings) {
+        let Some(l) = line_note_of(notes, d) else {
+            continue;
+        };
+        let line = &notes[l];
+        events.push((d.onset_s.max(line.onset_s), 0.5 * (line_string(l) + string)));
+        let together_until = d.offset_s.min(line.offset_s);
+        if line.offset_s > together_until + CHORD_S {
+            events.push((together_until, line_string(l)));
+        }
+    }
+    // Stable: at equal times a double stop's event follows (and overrides) the line's.
+    events.sort_by(|a, b| a.0.total_cmp(&b.0));
+    events
+}
+
+/// Per-frame string index (0 = G … 3 = E) and hand place (semitones from the nut), the
+/// string across both strings of each double stop (`double_stops`, with their string
+/// indices from [`double_stop_strings`]).
 pub fn left_hand_tracks(
     notes: &[Note],
     fingerings: &[Fingering],
+    double_stops: &[Note],
     fps: f64,
     cfg: &LeftHandConfig,
     string_index: &mut [f64],
     hand_semitones: &mut [f64],
 ) {
-    let strings: Vec<(f64, f64)> = notes
-        .iter()
-        .zip(fingerings)
-        .map(|(n, f)| (n.onset_s, f64::from(f.string.number() - 1)))
-        .collect();
+    let string_of = |i: usize| {
+        fingerings
+            .get(i)
+            .map_or(0.0, |f| f64::from(f.string.number() - 1))
+    };
+    let second = double_stop_strings(notes, fingerings, double_stops);
+    let strings = bowed_string_events(notes, double_stops, string_of, &second);
     // An open string keeps the hand where it was (its position is the planner's context).
     let hands: Vec<(f64, f64)> = notes
         .iter()
@@ -124,6 +194,64 @@ pub fn left_hand_tracks(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_double_stop_bows_across_both_strings() {
+        use fingering::ViolinString::{A, D, E};
+        // D5 (A string); E5 (A string, 3rd position) with G4 under it; B5 (E string)
+        // joined by E5 on the A string for 0.3 s.
+        let notes = [
+            Note::new(0.0, 1.0, 74),
+            Note::new(1.0, 2.0, 76),
+            Note::new(2.0, 3.0, 83),
+        ];
+        let fingerings = [
+            Fingering::new(A, 1, 3),
+            Fingering::new(A, 3, 2),
+            Fingering::new(E, 3, 3),
+        ];
+        let second = [
+            Note {
+                fingering: Some(Fingering::new(D, 3, 1)),
+                ..Note::new(1.0, 2.0, 67)
+            },
+            Note::new(2.3, 2.6, 76), // no fingering: the A string next to B5's E
+        ];
+        let strings = double_stop_strings(&notes, &fingerings, &second);
+        assert_eq!(strings, vec![1.0, 2.0]);
+        let string_of = |i: usize| f64::from(fingerings[i].string.number() - 1);
+        let events = bowed_string_events(&notes, &second, string_of, &strings);
+        // 2 (A), 1.5 across D and A, 3 (E), 2.5 across A and E, back to 3.
+        assert_eq!(
+            events,
+            vec![
+                (0.0, 2.0),
+                (1.0, 2.0),
+                (1.0, 1.5),
+                (2.0, 3.0),
+                (2.3, 2.5),
+                (2.6, 3.0)
+            ]
+        );
+        let (mut track, mut hand) = (vec![0.0; 90], vec![0.0; 90]);
+        let cfg = LeftHandConfig::default();
+        left_hand_tracks(
+            &notes,
+            &fingerings,
+            &second,
+            30.0,
+            &cfg,
+            &mut track,
+            &mut hand,
+        );
+        assert_eq!(track[45], 1.5);
+        assert_eq!(track[75], 2.5);
+        assert_eq!(track[85], 3.0);
+        assert_eq!(hand[45], f64::from(fingerings[1].hand_offset_semitones()));
+        // No second voice: the line's strings only.
+        let alone = bowed_string_events(&notes, &[], string_of, &[]);
+        assert_eq!(alone, vec![(0.0, 2.0), (1.0, 2.0), (2.0, 3.0)]);
+    }
 
     #[test]
     fn glides_end_at_the_onset_and_hold_otherwise() {

@@ -7,7 +7,10 @@ use crate::body::{body_track, BodyConfig, BodyTrack};
 use crate::bow::{change_frames, plan_bow, plan_bow_directed, BowPlan, BowPolicy};
 use crate::camera::Camera;
 use crate::error::{Result, SynthError};
-use crate::left_hand::{glide_track, left_hand_tracks, resolve_fingerings, LeftHandConfig};
+use crate::left_hand::{
+    bowed_string_events, double_stop_strings, glide_track, left_hand_tracks, resolve_fingerings,
+    LeftHandConfig,
+};
 use crate::performer::{finger_plan, FingerFrame, PerformerBuilder};
 use crate::rig::{PoseInput, Rig};
 use performance::BowStroke;
@@ -140,6 +143,7 @@ pub fn synthesize_detailed(perf: &Performance, cfg: &SynthConfig) -> Result<Synt
     left_hand_tracks(
         perf.notes(),
         &fingerings,
+        perf.double_stops(),
         fps,
         &cfg.left_hand,
         &mut string_index,
@@ -147,19 +151,19 @@ pub fn synthesize_detailed(perf: &Performance, cfg: &SynthConfig) -> Result<Synt
     );
     if strokes.iter().any(|s| s.string.is_some()) {
         // The bow plays the string the stroke network heard, where it heard one.
-        let events: Vec<(f64, f64)> = perf
-            .notes()
-            .iter()
-            .zip(&fingerings)
-            .map(|(n, f)| {
-                let heard = strokes
-                    .iter()
-                    .find(|s| s.start_s <= n.onset_s + 0.05 && n.onset_s < s.end_s)
-                    .and_then(|s| s.string);
-                let string = heard.unwrap_or(f.string);
-                (n.onset_s, f64::from(string.number() - 1))
-            })
-            .collect();
+        let notes = perf.notes();
+        let heard = |i: usize| {
+            let n = &notes[i];
+            let own = fingerings.get(i).map(|f| f.string);
+            strokes
+                .iter()
+                .find(|s| s.start_s <= n.onset_s + 0.05 && n.onset_s < s.end_s)
+                .and_then(|s| s.string)
+                .or(own)
+                .map_or(0.0, |s| f64::from(s.number() - 1))
+        };
+        let second = double_stop_strings(notes, &fingerings, perf.double_stops());
+        let events = bowed_string_events(notes, perf.double_stops(), heard, &second);
         glide_track(
             &events,
             cfg.left_hand.string_crossing_s,

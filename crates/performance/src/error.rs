@@ -64,6 +64,15 @@ pub enum PerformanceError {
         /// The pitch.
         midi: u8,
     },
+    /// A note of `double_stops` ends at or before its onset, has a pitch above 127, or
+    /// starts before the one listed before it.
+    #[error("double_stops[{index}]: {problem}")]
+    InvalidDoubleStop {
+        /// Index in `double_stops`.
+        index: usize,
+        /// What is wrong, and the values.
+        problem: String,
+    },
     /// The arousal curve's rate is not positive and finite.
     #[error("arousal rate {rate_hz} Hz is not a positive finite number (DEAM curves are 2 Hz)")]
     InvalidArousalRate {

@@ -68,7 +68,7 @@ pub use error::MidiError;
 pub use error::{PerformanceError, PerformanceFileError};
 pub use matching::{event_prf, f_measure, match_events, Prf};
 pub use meter::{Meter, TimeSignature};
-pub use note::{Note, CHORD_S, DOUBLE_STOP_OVERLAP_S};
+pub use note::{double_stop_partners, Note, CHORD_S, DOUBLE_STOP_OVERLAP_S};
 pub use stroke::{strokes_of, BowStroke};
 pub use timeline::{arousal_proxy, TimedNote, Timeline};
 

@@ -57,10 +57,10 @@ impl Note {
         self.offset_s - self.onset_s
     }
 
-    /// Whether `other` is played together with this note, as a double stop or chord: it
-    /// starts within [`CHORD_S`] of it, or the two overlap by at least
-    /// [`DOUBLE_STOP_OVERLAP_S`] and by half the shorter note (a legato overlap of a few
-    /// milliseconds is not a double stop).
+    /// Whether `other` is played together with this note, as a double stop or chord: the
+    /// two sound at once, and `other` starts within [`CHORD_S`] of it or they overlap by at
+    /// least [`DOUBLE_STOP_OVERLAP_S`] and by half the shorter note (a legato overlap of a
+    /// few milliseconds is not a double stop, nor is a note that follows a 20 ms one).
     ///
     /// ```
     /// use performance::Note;
@@ -68,15 +68,52 @@ impl Note {
     /// assert!(a4.sounds_with(&Note::new(0.01, 1.0, 62))); // a chord
     /// assert!(a4.sounds_with(&Note::new(0.5, 1.5, 74))); // held under the next note
     /// assert!(!a4.sounds_with(&Note::new(0.98, 2.0, 71))); // legato
+    /// let blip = Note::new(0.0, 0.02, 69);
+    /// assert!(!blip.sounds_with(&Note::new(0.02, 1.0, 71))); // one after the other
     /// ```
     pub fn sounds_with(&self, other: &Note) -> bool {
-        if (other.onset_s - self.onset_s).abs() < CHORD_S {
-            return true;
-        }
         let overlap = self.offset_s.min(other.offset_s) - self.onset_s.max(other.onset_s);
+        if overlap <= 0.0 {
+            return false;
+        }
         let shorter = self.duration_s().min(other.duration_s());
-        overlap >= DOUBLE_STOP_OVERLAP_S && overlap >= 0.5 * shorter
+        (other.onset_s - self.onset_s).abs() < CHORD_S
+            || (overlap >= DOUBLE_STOP_OVERLAP_S && overlap >= 0.5 * shorter)
     }
+}
+
+/// For each note of `notes` (sorted by onset), the index of the melodic line's note it is
+/// played together with ([`Note::sounds_with`]: a double stop or chord), or `None` for a
+/// note of the line. Notes `in_line` refuses (for instance pitches no string plays) are
+/// neither: `None`, and never a partner.
+///
+/// ```
+/// use performance::{double_stop_partners, Note};
+/// let notes = [
+///     Note::new(0.0, 1.0, 76), // E5 …
+///     Note::new(0.0, 1.0, 67), // … over G4: a double stop
+///     Note::new(1.0, 2.0, 74),
+/// ];
+/// assert_eq!(double_stop_partners(&notes, |_| true), vec![None, Some(0), None]);
+/// ```
+pub fn double_stop_partners(notes: &[Note], in_line: impl Fn(&Note) -> bool) -> Vec<Option<usize>> {
+    let mut line: Option<usize> = None;
+    notes
+        .iter()
+        .enumerate()
+        .map(|(i, n)| {
+            if !in_line(n) {
+                return None;
+            }
+            match line {
+                Some(l) if notes[l].sounds_with(n) => Some(l),
+                _ => {
+                    line = Some(i);
+                    None
+                }
+            }
+        })
+        .collect()
 }
 
 /// A note as it appears in `analysis.json` and performance files.

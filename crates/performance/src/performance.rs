@@ -9,7 +9,7 @@ use crate::arousal::ArousalCurve;
 use crate::error::{PerformanceError, PerformanceFileError};
 use crate::note::Note;
 use crate::stroke::BowStroke;
-use crate::validate::{check_notes, check_times};
+use crate::validate::{check_double_stops, check_notes, check_times};
 
 /// The unvalidated fields of a [`Performance`] (also its JSON form).
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
@@ -37,6 +37,11 @@ pub struct PerformanceParts {
     /// score); starts strictly increasing, each ending at or after its start.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub bow_strokes: Vec<BowStroke>,
+    /// The other notes of double stops and chords: notes played together with a note of
+    /// the line (`notes`), in onset order, each with its fingering when known. The bow
+    /// crosses both strings while they sound; they are not trimmed.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub double_stops: Vec<Note>,
 }
 
 /// What is played when, and how: the common language between analysis, the synthetic
@@ -53,7 +58,9 @@ pub struct PerformanceParts {
 /// * arousal: a positive finite rate and values in [-1, 1] (out-of-range values are an
 ///   error, not clipped silently: they usually mean another scale such as DEAM's 1..9; use
 ///   [`ArousalCurve::clamped`] to clip on purpose);
-/// * dynamics, when given: one level in [0, 1] per note.
+/// * dynamics, when given: one level in [0, 1] per note;
+/// * double stops (a second voice beside the line): times inside the performance, each
+///   ending after it starts, in onset order.
 ///
 /// The JSON form is [`PerformanceParts`]; fields that `analysis.json` adds (`f0`,
 /// `tempo_bpm`, …) are ignored, so an analysis file reads as a performance.
@@ -94,6 +101,7 @@ impl Performance {
             return Err(PerformanceError::Empty);
         }
         check_notes(&mut parts.notes, d)?;
+        check_double_stops(&parts.double_stops, d)?;
         check_times("bow_changes_s", &parts.bow_changes_s, d)?;
         check_times("beats_s", &parts.beats_s, d)?;
         check_times("downbeats_s", &parts.downbeats_s, d)?;
@@ -204,6 +212,12 @@ impl Performance {
     /// The notes, in onset order, not overlapping.
     pub fn notes(&self) -> &[Note] {
         &self.parts.notes
+    }
+
+    /// The other notes of double stops and chords, in onset order (empty for a single
+    /// line).
+    pub fn double_stops(&self) -> &[Note] {
+        &self.parts.double_stops
     }
 
     /// Bow changes, seconds, strictly increasing.
@@ -346,6 +360,12 @@ impl PerformanceBuilder {
     /// Sets the per-note levels.
     pub fn dynamics(mut self, levels: Vec<f32>) -> Self {
         self.parts.dynamics = Some(levels);
+        self
+    }
+
+    /// Sets the other notes of double stops and chords (onset order).
+    pub fn double_stops(mut self, notes: Vec<Note>) -> Self {
+        self.parts.double_stops = notes;
         self
     }
 

@@ -80,3 +80,34 @@ pub(crate) fn check_notes(notes: &mut [Note], duration_s: f64) -> Result<(), Per
     }
     Ok(())
 }
+
+/// The second voice of a performance ([`crate::PerformanceParts::double_stops`]): times
+/// finite and inside `[0, duration_s]`, each note ending after it starts, pitches 0..=127,
+/// onsets in order (equal onsets allowed: a chord's notes).
+pub(crate) fn check_double_stops(notes: &[Note], duration_s: f64) -> Result<(), PerformanceError> {
+    let mut previous = f64::NEG_INFINITY;
+    for (index, n) in notes.iter().enumerate() {
+        check_time("double_stops.onset_s", index, n.onset_s, duration_s)?;
+        check_time("double_stops.offset_s", index, n.offset_s, duration_s)?;
+        let problem = if n.offset_s <= n.onset_s {
+            Some(format!(
+                "ends at {} s, not after its onset {} s",
+                n.offset_s, n.onset_s
+            ))
+        } else if n.midi > 127 {
+            Some(format!("MIDI pitch {}; MIDI pitches are 0..=127", n.midi))
+        } else if n.onset_s < previous {
+            Some(format!(
+                "starts at {} s, before the note listed before it ({previous} s); sort by onset",
+                n.onset_s
+            ))
+        } else {
+            None
+        };
+        if let Some(problem) = problem {
+            return Err(PerformanceError::InvalidDoubleStop { index, problem });
+        }
+        previous = n.onset_s;
+    }
+    Ok(())
+}

@@ -188,3 +188,53 @@ fn read_json_names_the_file() {
     let e = Performance::read_json(dir.path().join("missing.json")).unwrap_err();
     assert!(matches!(e, PerformanceFileError::Io { .. }));
 }
+
+#[test]
+fn double_stops_are_a_second_voice_checked_like_notes() {
+    use performance::Note;
+    // G4 under E5 for the second note, and a three-note chord's two lower notes.
+    let voice = vec![
+        Note::new(1.0, 2.0, 55),
+        Note::new(1.0, 2.0, 62),
+        Note::new(1.5, 1.9, 64),
+    ];
+    let p = base().double_stops(voice.clone()).build().unwrap();
+    assert_eq!(p.double_stops(), voice.as_slice());
+    assert_eq!(p.notes().len(), 2); // the line is untouched
+    let text = serde_json::to_string(&p).unwrap();
+    assert!(text.contains("double_stops"));
+    assert_eq!(serde_json::from_str::<Performance>(&text).unwrap(), p);
+    // A single line writes no double_stops field.
+    let plain = serde_json::to_string(&base().build().unwrap()).unwrap();
+    assert!(!plain.contains("double_stops"));
+
+    let err = |notes: Vec<Note>| base().double_stops(notes).build().unwrap_err();
+    let e = err(vec![Note::new(1.0, 1.0, 60)]);
+    assert!(matches!(
+        e,
+        PerformanceError::InvalidDoubleStop { index: 0, .. }
+    ));
+    assert!(e.to_string().contains("not after its onset"), "{e}");
+    let e = err(vec![Note::new(1.5, 2.0, 60), Note::new(1.0, 2.0, 62)]);
+    assert!(e.to_string().contains("double_stops[1]"), "{e}");
+    assert!(e.to_string().contains("sort by onset"), "{e}");
+    let e = err(vec![Note::new(1.0, 9.0, 60)]);
+    assert!(matches!(
+        e,
+        PerformanceError::OutOfRange {
+            field: "double_stops.offset_s",
+            ..
+        }
+    ));
+    let e = err(vec![Note::new(f64::NAN, 1.0, 60)]);
+    assert!(matches!(
+        e,
+        PerformanceError::NonFinite {
+            field: "double_stops.onset_s",
+            ..
+        }
+    ));
+    assert!(err(vec![Note::new(1.0, 2.0, 200)])
+        .to_string()
+        .contains("MIDI pitch 200"));
+}
