@@ -40,25 +40,39 @@ fn smf(division: u16, events: &[(u32, Vec<u8>)]) -> Vec<u8> {
     out
 }
 
-/// 4/4 at 120 bpm: eight quarter notes (a scale G4..G5, the fourth one with a D4 double
-/// stop below).
-fn scale_file() -> Vec<u8> {
-    let mut ev = vec![
-        (0, vec![0xff, 0x51, 0x03, 0x07, 0xa1, 0x20]),
-        (0, vec![0xff, 0x58, 0x04, 4, 2, 24, 8]),
-    ];
-    for (i, k) in [67u8, 69, 71, 72, 74, 76, 78, 79].into_iter().enumerate() {
-        ev.push((0, vec![0x90, k, 70 + i as u8]));
-        if i == 3 {
-            ev.push((0, vec![0x90, 62, 70]));
+/// Quarter notes of `keys` at 120 bpm (each sounding 450 of its 480 ticks) with
+/// `velocity(i)`, the note `lower.1` sounding under note `lower.0` (a double stop), and a 4/4
+/// time signature when asked.
+fn quarters(
+    keys: &[u8],
+    velocity: impl Fn(usize) -> u8,
+    lower: (usize, u8),
+    four_four: bool,
+) -> Vec<u8> {
+    let mut ev = vec![(0, vec![0xff, 0x51, 0x03, 0x07, 0xa1, 0x20])];
+    if four_four {
+        ev.push((0, vec![0xff, 0x58, 0x04, 4, 2, 24, 8]));
+    }
+    for (i, &k) in keys.iter().enumerate() {
+        let chord = i == lower.0;
+        ev.push((0, vec![0x90, k, velocity(i)]));
+        if chord {
+            ev.push((0, vec![0x90, lower.1, 70]));
         }
         ev.push((450, vec![0x80, k, 0]));
-        if i == 3 {
-            ev.push((0, vec![0x80, 62, 0]));
+        if chord {
+            ev.push((0, vec![0x80, lower.1, 0]));
         }
         ev.push((30, vec![0xff, 0x01, 0]));
     }
     smf(480, &ev)
+}
+
+/// 4/4 at 120 bpm: eight quarter notes (a scale G4..G5, the fourth one with a D4 double
+/// stop below).
+fn scale_file() -> Vec<u8> {
+    let scale = [67u8, 69, 71, 72, 74, 76, 78, 79];
+    quarters(&scale, |i| 70 + i as u8, (3, 62), true)
 }
 
 fn run(args: &[&str], input: &Path, out: &Path) -> std::process::Output {
@@ -193,21 +207,9 @@ fn bad_midi_files_are_refused_with_one_line() {
     assert_eq!(v["notes"][0]["midi"], 55);
 }
 
-/// The sixth E5 over G4 at 1.0–1.5 s after D5, between plain notes (4/4, 120 bpm).
+/// The sixth E5 over G4 at 1.0–1.5 s after D5, between plain notes (120 bpm).
 fn sixth_file() -> Vec<u8> {
-    let mut ev = vec![(0, vec![0xff, 0x51, 0x03, 0x07, 0xa1, 0x20])];
-    for (i, k) in [71u8, 74, 76, 78].into_iter().enumerate() {
-        ev.push((0, vec![0x90, k, 80]));
-        if i == 2 {
-            ev.push((0, vec![0x90, 67, 80]));
-        }
-        ev.push((450, vec![0x80, k, 0]));
-        if i == 2 {
-            ev.push((0, vec![0x80, 67, 0]));
-        }
-        ev.push((30, vec![0xff, 0x01, 0]));
-    }
-    smf(480, &ev)
+    quarters(&[71, 74, 76, 78], |_| 80, (2, 67), false)
 }
 
 #[test]
