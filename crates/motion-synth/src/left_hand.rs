@@ -110,21 +110,39 @@ fn line_note_of(notes: &[Note], d: &Note) -> Option<usize> {
     notes.get(l).filter(|n| n.sounds_with(d)).map(|_| l)
 }
 
-/// The string index (0 = G … 3 = E) of each double-stop note: its own fingering's, else
-/// the neighbouring string of its line note's place ([`partner_place`]), else the line's.
+/// The place of each double-stop note: its own fingering, else the neighbouring string of
+/// its line note's place ([`partner_place`]); `None` when neither is known.
+pub(crate) fn double_stop_places(
+    notes: &[Note],
+    fingerings: &[Fingering],
+    double_stops: &[Note],
+) -> Vec<Option<Fingering>> {
+    double_stops
+        .iter()
+        .map(|d| {
+            d.fingering.or_else(|| {
+                line_note_of(notes, d)
+                    .and_then(|l| fingerings.get(l))
+                    .and_then(|f| partner_place(f, d.midi))
+            })
+        })
+        .collect()
+}
+
+/// The string index (0 = G … 3 = E) of each double-stop note: its place's
+/// ([`double_stop_places`]), else its line note's.
 pub(crate) fn double_stop_strings(
     notes: &[Note],
     fingerings: &[Fingering],
     double_stops: &[Note],
 ) -> Vec<f64> {
     let index = |f: &Fingering| f64::from(f.string.number() - 1);
-    double_stops
+    double_stop_places(notes, fingerings, double_stops)
         .iter()
-        .map(|d| {
-            let line = line_note_of(notes, d).and_then(|l| fingerings.get(l));
-            d.fingering
-                .or_else(|| line.and_then(|f| partner_place(f, d.midi)))
-                .or(line.copied())
+        .zip(double_stops)
+        .map(|(place, d)| {
+            place
+                .or_else(|| line_note_of(notes, d).and_then(|l| fingerings.get(l).copied()))
                 .map_or(0.0, |f| index(&f))
         })
         .collect()

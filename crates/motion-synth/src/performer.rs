@@ -41,6 +41,18 @@ pub struct FingerFrame {
     pub down: Option<Press>,
     /// The next note's finger preparing, with how far it has come down (0 … 1).
     pub next: Option<(Press, f64)>,
+    /// The finger of a double stop's second note, down on its string, if stopped.
+    pub also_down: Option<Press>,
+}
+
+/// The press of a stopped place (`None` for an open string).
+fn press_of(f: &Fingering) -> Option<Press> {
+    (f.finger != 0).then(|| Press {
+        finger: f.finger.min(4),
+        string: f.string.number().saturating_sub(1).min(3),
+        semitones: f64::from(f.semitones_above_open()),
+        vibrato_m: 0.0,
+    })
 }
 
 const VIBRATO_HZ: f64 = 5.5;
@@ -50,24 +62,29 @@ const PREPARE_S: f64 = 0.15;
 const HOVER_M: f64 = 0.010;
 const FOLLOW_S: f64 = 0.05;
 
-/// The left fingers' plan for `frames` frames at `fps` from the notes and their fingerings.
+/// The left fingers' plan for `frames` frames at `fps` from the notes and their fingerings,
+/// and the second notes of double stops with their places (`None`: not shown).
 pub fn finger_plan(
     notes: &[Note],
     fingerings: &[Fingering],
+    double_stops: &[(Note, Option<Fingering>)],
     fps: f64,
     frames: usize,
 ) -> Vec<FingerFrame> {
     let mut plan = vec![FingerFrame::default(); frames];
     let frame_at = |t: f64| ((t * fps).ceil().max(0.0) as usize).min(frames);
-    for (note, f) in notes.iter().zip(fingerings) {
-        if f.finger == 0 {
+    for (note, f) in double_stops {
+        let Some(press) = f.as_ref().and_then(press_of) else {
             continue;
+        };
+        let (from, to) = (frame_at(note.onset_s), frame_at(note.offset_s));
+        for slot in plan.iter_mut().take(to).skip(from) {
+            slot.also_down = Some(press);
         }
-        let press = Press {
-            finger: f.finger.min(4),
-            string: f.string.number().saturating_sub(1).min(3),
-            semitones: f64::from(f.semitones_above_open()),
-            vibrato_m: 0.0,
+    }
+    for (note, f) in notes.iter().zip(fingerings) {
+        let Some(press) = press_of(f) else {
+            continue;
         };
         let long = note.offset_s - note.onset_s >= VIBRATO_MIN_NOTE_S;
         for (i, slot) in plan
@@ -272,7 +289,7 @@ impl PerformerBuilder {
             Some(prev) => std::array::from_fn(|k| prev[k] + (local[k] - prev[k]) * self.follow),
             None => local,
         };
-        if let Some(d) = fingers.down {
+        for d in [fingers.also_down, fingers.down].into_iter().flatten() {
             let k = usize::from(d.finger.clamp(1, 4)) - 1;
             state[k] = place(f64::from(d.string), d.semitones, d.vibrato_m);
         }

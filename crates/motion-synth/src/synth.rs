@@ -8,13 +8,14 @@ use crate::bow::{change_frames, plan_bow, plan_bow_directed, BowPlan, BowPolicy}
 use crate::camera::Camera;
 use crate::error::{Result, SynthError};
 use crate::left_hand::{
-    bowed_string_events, double_stop_strings, glide_track, left_hand_tracks, resolve_fingerings,
-    LeftHandConfig,
+    bowed_string_events, double_stop_places, double_stop_strings, glide_track, left_hand_tracks,
+    resolve_fingerings, LeftHandConfig,
 };
 use crate::performer::{finger_plan, FingerFrame, PerformerBuilder};
 use crate::rig::{PoseInput, Rig};
+use fingering::Fingering;
 use performance::BowStroke;
-use performance::Performance;
+use performance::{Note, Performance};
 
 /// Everything [`synthesize`] can be tuned with; the default is the product's.
 #[derive(Debug, Clone, PartialEq)]
@@ -179,7 +180,17 @@ pub fn synthesize_detailed(perf: &Performance, cfg: &SynthConfig) -> Result<Synt
     let mut inst_3d = Array3::<f32>::zeros((frames, points, 3));
     let project = cfg.camera.projector();
     let mut unreached_frames = 0;
-    let fingers = finger_plan(perf.notes(), &fingerings, fps, frames);
+    let second_voice: Vec<(Note, Option<Fingering>)> = perf
+        .double_stops()
+        .iter()
+        .copied()
+        .zip(double_stop_places(
+            perf.notes(),
+            &fingerings,
+            perf.double_stops(),
+        ))
+        .collect();
+    let fingers = finger_plan(perf.notes(), &fingerings, &second_voice, fps, frames);
     let flex = flex_track(&bow.change_frames(), frames, fps);
     let mut builder = PerformerBuilder::new(fps);
     let shape =
