@@ -236,6 +236,7 @@ fn a_double_stop_is_fingered_in_reach_and_bowed_across_both_strings() {
     assert_eq!(synth.string_index[38], across); // 1.27 s
     let after = f64::from(perf.notes()[3].fingering.unwrap().string.number() - 1);
     assert_eq!(synth.string_index[55], after); // 1.83 s
+
     // G4's finger is down on its string beside E5's while they sound, and only then.
     let also = synth.fingers[38].also_down.expect("G4 stopped");
     assert_eq!(also.finger, g4_place.finger);

@@ -180,9 +180,10 @@ pub(crate) fn bowed_string_events(
     events
 }
 
-/// Per-frame string index (0 = G … 3 = E) and hand place (semitones from the nut), the
-/// string across both strings of each double stop (`double_stops`, with their string
-/// indices from [`double_stop_strings`]).
+/// Per-frame string index (0 = G … 3 = E) and hand place (semitones from the nut); while a
+/// note of `double_stops` sounds with its line note, the string index lies between the two
+/// notes' strings (the second note's string from its fingering, else from
+/// [`partner_place`]).
 pub fn left_hand_tracks(
     notes: &[Note],
     fingerings: &[Fingering],
