@@ -41,7 +41,8 @@ pub fn wav16() -> Vec<u8> {
     bytes.into_inner()
 }
 
-/// A format-0 Standard MIDI File: 120 bpm, 3/4, a slurred scale of 12 notes with velocities.
+/// A format-0 Standard MIDI File: 120 bpm, 3/4, a slurred scale of 12 notes with velocities,
+/// the fifth one (D5) with F#4 under it (a double stop, so the second voice is fuzzed too).
 pub fn midi() -> Vec<u8> {
     let mut track: Vec<u8> = Vec::new();
     // tempo 500 000 µs per quarter, time signature 3/4.
@@ -53,8 +54,14 @@ pub fn midi() -> Vec<u8> {
     {
         let velocity = 60 + (k as u8 * 5) % 50;
         track.extend_from_slice(&[0x00, 0x90, *key, velocity]);
+        if k == 4 {
+            track.extend_from_slice(&[0x00, 0x90, 66, velocity]);
+        }
         // 240 ticks (an eighth at 480 per quarter), as a two-byte variable-length number.
         track.extend_from_slice(&[0x81, 0x70, 0x80, *key, 0x40]);
+        if k == 4 {
+            track.extend_from_slice(&[0x00, 0x80, 66, 0x40]);
+        }
     }
     track.extend_from_slice(&[0x00, 0xFF, 0x2F, 0x00]);
     let mut smf = b"MThd\x00\x00\x00\x06\x00\x00\x00\x01\x01\xE0MTrk".to_vec();

@@ -10,6 +10,13 @@ use input_fuzz::{fuzz_kind, seed_set, FuzzSettings, Kind};
 fn every_kind_survives_its_mutants() {
     let scratch = tempfile::tempdir().unwrap();
     let seeds = seed_set(scratch.path()).unwrap();
+    // The performance seed carries the MIDI seed's double stop (the second voice is fuzzed).
+    let (_, perf) = seeds
+        .by_kind
+        .iter()
+        .find(|(k, _)| *k == Kind::PerformanceJson)
+        .unwrap();
+    assert!(String::from_utf8_lossy(&perf[0]).contains("\"double_stops\""));
     let settings = FuzzSettings {
         iterations: 40,
         seed: 20261126,
