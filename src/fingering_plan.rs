@@ -46,9 +46,10 @@ pub(crate) fn plan_notes(
     notes: &[Note],
 ) -> Vec<Option<Fingering>> {
     let table = FingeringTable::physical();
-    let partner_of = performance::double_stop_partners(notes, |n| !table.places(n.midi).is_empty());
+    let playable = |n: &Note| !table.places(n.midi).is_empty();
+    let partner_of = performance::double_stop_partners(notes, playable);
     let line: Vec<usize> = (0..notes.len())
-        .filter(|&i| partner_of[i].is_none() && !table.places(notes[i].midi).is_empty())
+        .filter(|&i| partner_of[i].is_none() && playable(&notes[i]))
         .collect();
     let pitches: Vec<u8> = line.iter().map(|&i| notes[i].midi).collect();
     let mut style = style.clone();

@@ -7,9 +7,9 @@ use crate::string::ViolinString;
 use crate::table::FingeringTable;
 
 /// The place of a double-stop partner `midi` that the hand holding `line` can play with it:
-/// on the neighbouring string (below for a lower note or a unison, above for a higher one), open or
-/// stopped within one position of the line's (the same position first, then the one below,
-/// then the one above). `None` when that string cannot play the partner in reach, for
+/// on the neighbouring string (below for a lower note or a unison, above for a higher one),
+/// open or stopped within one position of the line's (the same position first, then the one
+/// below, then the one above). `None` when that string cannot play the partner in reach, for
 /// instance G4 under E5 on the open E string: the A string starts at A4, so the line has to
 /// move to the A string for the sixth to be playable.
 ///

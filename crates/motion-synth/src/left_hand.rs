@@ -110,69 +110,52 @@ fn line_note_of(notes: &[Note], d: &Note) -> Option<usize> {
     notes.get(l).filter(|n| n.sounds_with(d)).map(|_| l)
 }
 
-/// The place of each double-stop note: its own fingering, else the neighbouring string of
-/// its line note's place ([`partner_place`]); `None` when neither is known.
-pub(crate) fn double_stop_places(
+/// The second voice with the place of each note: its own fingering, else the neighbouring
+/// string of its line note's place ([`partner_place`]); `None` when neither is known.
+pub fn second_voice(
     notes: &[Note],
     fingerings: &[Fingering],
     double_stops: &[Note],
-) -> Vec<Option<Fingering>> {
+) -> Vec<(Note, Option<Fingering>)> {
     double_stops
         .iter()
         .map(|d| {
-            d.fingering.or_else(|| {
+            let place = d.fingering.or_else(|| {
                 line_note_of(notes, d)
                     .and_then(|l| fingerings.get(l))
                     .and_then(|f| partner_place(f, d.midi))
-            })
-        })
-        .collect()
-}
-
-/// The string index (0 = G … 3 = E) of each double-stop note: its place's
-/// ([`double_stop_places`]), else its line note's.
-pub(crate) fn double_stop_strings(
-    notes: &[Note],
-    fingerings: &[Fingering],
-    double_stops: &[Note],
-) -> Vec<f64> {
-    let index = |f: &Fingering| f64::from(f.string.number() - 1);
-    double_stop_places(notes, fingerings, double_stops)
-        .iter()
-        .zip(double_stops)
-        .map(|(place, d)| {
-            place
-                .or_else(|| line_note_of(notes, d).and_then(|l| fingerings.get(l).copied()))
-                .map_or(0.0, |f| index(&f))
+            });
+            (*d, place)
         })
         .collect()
 }
 
 /// The bowed string's events (time, string index 0 = G … 3 = E) in time order: each line
-/// note's `line_string`, and while a double-stop note sounds with its line note, the mean
-/// of that and its `double_stop_strings` entry, so the bow lies across both strings.
+/// note's `line_string`, and while a note of the second voice ([`second_voice`]) sounds
+/// with its line note, the mean of the two strings, so the bow lies across both (a second
+/// note without a place counts as on the line's string).
 pub(crate) fn bowed_string_events(
     notes: &[Note],
-    double_stops: &[Note],
+    second: &[(Note, Option<Fingering>)],
     line_string: impl Fn(usize) -> f64,
-    double_stop_strings: &[f64],
 ) -> Vec<(f64, f64)> {
-    let mut events: Vec<(f64, f64)> = Vec::with_capacity(notes.len() + 2 * double_stops.len());
+    let mut events: Vec<(f64, f64)> = Vec::with_capacity(notes.len() + 2 * second.len());
     events.extend(
         notes
             .iter()
             .enumerate()
             .map(|(i, n)| (n.onset_s, line_string(i))),
     );
-    for (d, &string) in double_stops.iter().zip(double_stop_strings) {
+    for (d, place) in second {
         let Some(l) = line_note_of(notes, d) else {
             continue;
         };
-        let line = &notes[l];
-        events.push((d.onset_s.max(line.onset_s), 0.5 * (line_string(l) + string)));
+        let (line, on_line) = (&notes[l], line_string(l));
+        let string = place.map_or(on_line, |f| f64::from(f.string.number() - 1));
+        events.push((d.onset_s.max(line.onset_s), 0.5 * (on_line + string)));
         let together_until = d.offset_s.min(line.offset_s);
         if line.offset_s > together_until + CHORD_S {
-            events.push((together_until, line_string(l)));
+            events.push((together_until, on_line));
         }
     }
     // Stable: at equal times a double stop's event follows (and overrides) the line's.
@@ -181,13 +164,12 @@ pub(crate) fn bowed_string_events(
 }
 
 /// Per-frame string index (0 = G … 3 = E) and hand place (semitones from the nut); while a
-/// note of `double_stops` sounds with its line note, the string index lies between the two
-/// notes' strings (the second note's string from its fingering, else from
-/// [`partner_place`]).
+/// note of the second voice (`second`, from [`second_voice`]) sounds with its line note,
+/// the string index lies between the two notes' strings.
 pub fn left_hand_tracks(
     notes: &[Note],
     fingerings: &[Fingering],
-    double_stops: &[Note],
+    second: &[(Note, Option<Fingering>)],
     fps: f64,
     cfg: &LeftHandConfig,
     string_index: &mut [f64],
@@ -198,8 +180,7 @@ pub fn left_hand_tracks(
             .get(i)
             .map_or(0.0, |f| f64::from(f.string.number() - 1))
     };
-    let second = double_stop_strings(notes, fingerings, double_stops);
-    let strings = bowed_string_events(notes, double_stops, string_of, &second);
+    let strings = bowed_string_events(notes, second, string_of);
     // An open string keeps the hand where it was (its position is the planner's context).
     let hands: Vec<(f64, f64)> = notes
         .iter()
@@ -236,10 +217,18 @@ mod tests {
             },
             Note::new(2.3, 2.6, 76), // no fingering: the A string next to B5's E
         ];
-        let strings = double_stop_strings(&notes, &fingerings, &second);
-        assert_eq!(strings, vec![1.0, 2.0]);
+        let second = second_voice(&notes, &fingerings, &second);
+        let places: Vec<Option<Fingering>> = second.iter().map(|(_, f)| *f).collect();
+        assert_eq!(
+            places,
+            vec![
+                Some(Fingering::new(D, 3, 1)),
+                partner_place(&fingerings[2], 76)
+            ]
+        );
+        assert_eq!(places[1].map(|f| f.string), Some(A));
         let string_of = |i: usize| f64::from(fingerings[i].string.number() - 1);
-        let events = bowed_string_events(&notes, &second, string_of, &strings);
+        let events = bowed_string_events(&notes, &second, string_of);
         // 2 (A), 1.5 across D and A, 3 (E), 2.5 across A and E, back to 3.
         assert_eq!(
             events,
@@ -268,7 +257,7 @@ mod tests {
         assert_eq!(track[85], 3.0);
         assert_eq!(hand[45], f64::from(fingerings[1].hand_offset_semitones()));
         // No second voice: the line's strings only.
-        let alone = bowed_string_events(&notes, &[], string_of, &[]);
+        let alone = bowed_string_events(&notes, &[], string_of);
         assert_eq!(alone, vec![(0.0, 2.0), (1.0, 2.0), (2.0, 3.0)]);
     }
 

@@ -8,14 +8,13 @@ use crate::bow::{change_frames, plan_bow, plan_bow_directed, BowPlan, BowPolicy}
 use crate::camera::Camera;
 use crate::error::{Result, SynthError};
 use crate::left_hand::{
-    bowed_string_events, double_stop_places, double_stop_strings, glide_track, left_hand_tracks,
-    resolve_fingerings, LeftHandConfig,
+    bowed_string_events, glide_track, left_hand_tracks, resolve_fingerings, second_voice,
+    LeftHandConfig,
 };
 use crate::performer::{finger_plan, FingerFrame, PerformerBuilder};
 use crate::rig::{PoseInput, Rig};
-use fingering::Fingering;
 use performance::BowStroke;
-use performance::{Note, Performance};
+use performance::Performance;
 
 /// Everything [`synthesize`] can be tuned with; the default is the product's.
 #[derive(Debug, Clone, PartialEq)]
@@ -141,10 +140,11 @@ pub fn synthesize_detailed(perf: &Performance, cfg: &SynthConfig) -> Result<Synt
     let fingerings = resolve_fingerings(perf.notes())?;
     let mut string_index = vec![0.0; frames];
     let mut hand_semitones = vec![0.0; frames];
+    let second = second_voice(perf.notes(), &fingerings, perf.double_stops());
     left_hand_tracks(
         perf.notes(),
         &fingerings,
-        perf.double_stops(),
+        &second,
         fps,
         &cfg.left_hand,
         &mut string_index,
@@ -163,8 +163,7 @@ pub fn synthesize_detailed(perf: &Performance, cfg: &SynthConfig) -> Result<Synt
                 .or(own)
                 .map_or(0.0, |s| f64::from(s.number() - 1))
         };
-        let second = double_stop_strings(notes, &fingerings, perf.double_stops());
-        let events = bowed_string_events(notes, perf.double_stops(), heard, &second);
+        let events = bowed_string_events(notes, &second, heard);
         glide_track(
             &events,
             cfg.left_hand.string_crossing_s,
@@ -180,17 +179,7 @@ pub fn synthesize_detailed(perf: &Performance, cfg: &SynthConfig) -> Result<Synt
     let mut inst_3d = Array3::<f32>::zeros((frames, points, 3));
     let project = cfg.camera.projector();
     let mut unreached_frames = 0;
-    let second_voice: Vec<(Note, Option<Fingering>)> = perf
-        .double_stops()
-        .iter()
-        .copied()
-        .zip(double_stop_places(
-            perf.notes(),
-            &fingerings,
-            perf.double_stops(),
-        ))
-        .collect();
-    let fingers = finger_plan(perf.notes(), &fingerings, &second_voice, fps, frames);
+    let fingers = finger_plan(perf.notes(), &fingerings, &second, fps, frames);
     let flex = flex_track(&bow.change_frames(), frames, fps);
     let mut builder = PerformerBuilder::new(fps);
     let shape =
