@@ -22,6 +22,15 @@ direction is right with:
   `items_00012.json`), the analysis's downbeats.
 
 The classifier is fitted on the training split only; the other splits are scored.
+
+    python3 scripts/direction_bar_grid_ceiling.py [--analysed-beats] [--analysed-notes] CORPUS_DIR ANALYSES_DIR ...
+
+takes the beats and/or the notes the grid is chosen from from the analyses instead, for every
+split, training included (rule R90): the strokes stay labelled (and the runs between rests come
+from the labelled notes), so the learned-grid column then says what the analysis's own beats or
+notes allow with every bow change right. Items without an analysis are left out; with analysed
+beats a training item is left out when no candidate grid on them agrees with its labelled
+downbeats on 0.8 of the beats.
 """
 
 import bisect
@@ -141,16 +150,42 @@ def grid_rows(x):
     return np.array(rows, float), grids
 
 
-def true_grid(x):
-    """The candidate grid that agrees most with the labelled downbeats."""
+def true_grid(x, tolerance_s=0.03):
+    """The candidate grid that agrees most with the labelled downbeats, and its agreement."""
     nb = len(x["beats"])
-    down = np.array([np.any(np.abs(x["downbeats"] - t) < 0.03) for t in x["beats"]])
+    down = np.array(
+        [np.any(np.abs(x["downbeats"] - t) < tolerance_s) for t in x["beats"]]
+    )
     scores = [
         (np.mean((np.arange(nb) % b == q) == down), (b, q))
         for b in BAR_LENGTHS
         for q in range(b)
     ]
-    return max(scores, key=lambda s: s[0])[1]
+    agreement, grid = max(scores, key=lambda s: s[0])
+    return grid, agreement
+
+
+def find_analysis(analyses, item):
+    """The item's analysis from the first folder that has it, or None."""
+    base = item["dir"].replace("/", "_") + ".json"
+    for d in analyses:
+        if os.path.exists(os.path.join(d, base)):
+            with open(os.path.join(d, base)) as f:
+                return json.load(f)
+    return None
+
+
+def with_analysed(x, analysis, beats, notes):
+    """`x` with the analysis's beats and/or notes; strokes and downbeats stay."""
+    y = dict(x)
+    if beats:
+        y["beats"] = np.array(analysis["beats_s"], float)
+    if notes:
+        found = sorted(analysis["notes"], key=lambda n: n["onset_s"])
+        y["on"] = np.array([n["onset_s"] for n in found], float)
+        y["off"] = np.array([n["offset_s"] for n in found], float)
+        y["pitch"] = np.array([float(n["midi"]) for n in found])
+    return y
 
 
 def near(times, t):
@@ -193,20 +228,33 @@ def directions_right(x, downbeats):
 
 
 def main():
-    if len(sys.argv) < 2:
+    args = sys.argv[1:]
+    analysed_beats = "--analysed-beats" in args
+    analysed_notes = "--analysed-notes" in args
+    args = [a for a in args if a not in ("--analysed-beats", "--analysed-notes")]
+    if not args or ((analysed_beats or analysed_notes) and len(args) < 2):
         sys.exit(__doc__)
-    root, analyses = sys.argv[1], sys.argv[2:]
+    root, analyses = args[0], args[1:]
     with open(os.path.join(root, "manifest.json")) as f:
         items = json.load(f)["items"]
     sets = collections.defaultdict(list)
     for item in items:
         x = load(root, item)
-        if len(x["beats"]) < 4 or len(x["on"]) < 4:
+        analysis = find_analysis(analyses, item) if analyses else None
+        grid_x = x
+        if analysed_beats or analysed_notes:
+            if analysis is None:
+                continue
+            grid_x = with_analysed(x, analysis, analysed_beats, analysed_notes)
+        if len(grid_x["beats"]) < 4 or len(grid_x["on"]) < 4:
             continue
+        truth, agreement = true_grid(grid_x, 0.07 if analysed_beats else 0.03)
         name = {"train": "train", "val": "validation"}.get(
             item["split"], item["held_out"]
         )
-        sets[name].append((item, x, *grid_rows(x), true_grid(x)))
+        if name == "train" and analysed_beats and agreement < 0.8:
+            continue
+        sets[name].append((x, grid_x, *grid_rows(grid_x), truth, analysis))
     features = np.concatenate([s[2] for s in sets["train"]])
     labels = np.concatenate([[g == s[4] for g in s[3]] for s in sets["train"]])
     model = HistGradientBoostingClassifier(
@@ -217,25 +265,21 @@ def main():
         min_samples_leaf=100,
         l2_regularization=1.0,
     ).fit(features, labels)
+    print(f"training items {len(sets['train'])}")
     print(
         "set\titems\tgrid right\tstrokes\tlabelled downbeats\tlearned grid\tanalysed downbeats"
     )
     for name in sorted(k for k in sets if k != "train"):
         n_grid = strokes = with_true = with_grid = with_analysis = analysed = 0
-        for item, x, rows, grids, truth in sets[name]:
+        for x, grid_x, rows, grids, truth, analysis in sets[name]:
             b, q = grids[int(np.argmax(model.predict_proba(rows)[:, 1]))]
             n_grid += (b, q) == truth
             strokes += len(x["strokes"])
             with_true += directions_right(x, list(x["downbeats"]))
-            with_grid += directions_right(x, list(x["beats"][q::b]))
-            base = item["dir"].replace("/", "_") + ".json"
-            for d in analyses:
-                if os.path.exists(os.path.join(d, base)):
-                    with open(os.path.join(d, base)) as f:
-                        found = json.load(f)["downbeats_s"]
-                    with_analysis += directions_right(x, found)
-                    analysed += len(x["strokes"])
-                    break
+            with_grid += directions_right(x, list(grid_x["beats"][q::b]))
+            if analysis is not None:
+                with_analysis += directions_right(x, analysis["downbeats_s"])
+                analysed += len(x["strokes"])
         share = f"{with_analysis / analysed:.3f}" if analysed else "-"
         print(
             f"{name}\t{len(sets[name])}\t{n_grid / len(sets[name]):.3f}\t{strokes}\t"
