@@ -41,8 +41,9 @@ pub enum Positions {
 /// Fingering flags.
 #[derive(Debug, Clone, Args)]
 pub struct FingeringArgs {
-    /// Fingering planner (`viterbi` is another name for `optimal`).
-    #[arg(long, value_enum, default_value_t = PlannerArg::Learned)]
+    /// Fingering planner (`viterbi` is another name for `optimal`; `--fingering` is another
+    /// name for this flag).
+    #[arg(long, visible_alias = "fingering", value_enum, default_value_t = PlannerArg::Learned)]
     pub planner: PlannerArg,
     /// Open strings: neutral, prefer or avoid (optimal and learned planners).
     #[arg(long, value_enum, default_value_t = OpenStrings::Neutral)]

@@ -168,6 +168,19 @@ fn a_midi_file_gives_the_analysis_schema() {
         .filter(|n| n["string"] == 1)
         .count();
     assert!(on_g >= 7, "{s}");
+
+    // `--fingering` names the same flag as `--planner`.
+    let by_planner = dir.path().join("p.json");
+    let by_fingering = dir.path().join("f.json");
+    for (flag, out) in [("--planner", &by_planner), ("--fingering", &by_fingering)] {
+        let o = run(&["analyze", flag, "greedy"], &mid, out);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    let notes = |p: &Path| -> Value {
+        serde_json::from_slice::<Value>(&std::fs::read(p).unwrap()).unwrap()["notes"].clone()
+    };
+    assert_eq!(notes(&by_planner), notes(&by_fingering));
+    assert_ne!(notes(&by_planner), v["notes"]); // greedy is not the default planner
 }
 
 #[test]
